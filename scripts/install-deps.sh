@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs settle's build and run dependencies from Debian's package archive.
+# Idempotent: packages already present are skipped, and apt-get is not touched at all
+# when nothing is missing. Nothing is vendored or downloaded from elsewhere.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libtomlplusplus-dev   # case files (toml++)
+  libcli11-dev          # command line (CLI11)
+  libfmt-dev            # formatting
+  nlohmann-json3-dev    # JSON output (summary.json, shape, bench) and reference data in tests
+  libeigen3-dev         # small linear algebra (attitude, inertia)
+  libgtest-dev libgmock-dev googletest   # tests
+  libbenchmark-dev      # micro-benchmarks
+  python3-matplotlib python3-numpy       # `settle plot`
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,32 @@
+// settle: the command-line front end. All physics lives in libsettle; this file only wires
+// the subcommands together and turns errors into exit codes.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "app/commands.hpp"
+#include "common/error.hpp"
+#include "settle/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"settle: resolved simulation of rigid particles of any shape settling in a quiescent fluid"};
+  app.set_version_flag("--version", fmt::format("settle {}", settle::version_string));
+  app.require_subcommand(1);
+  settle::app::add_attitude_command(app);
+  settle::app::add_shape_command(app);
+  settle::app::add_bench_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const settle::InputError& e) {
+    fmt::print(stderr, "settle: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "settle: internal error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

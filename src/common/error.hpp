@@ -1,0 +1,16 @@
+#pragma once
+// Errors that the user can fix (bad flag, bad case key, unreadable file). The front end
+// prints the message and exits with status 2; everything else is a bug and exits with 1.
+#include <stdexcept>
+#include <string>
+
+namespace settle {
+
+/// A problem with the user's input. The message names the flag, key or file at fault and
+/// says what is allowed, e.g. "--dt: must be > 0, got -1".
+class InputError : public std::runtime_error {
+ public:
+  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+};
+
+}  // namespace settle
