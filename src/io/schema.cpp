@@ -1,0 +1,360 @@
+#include "io/schema.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "common/error.hpp"
+
+namespace settle::io {
+namespace {
+
+std::string format_number(double v) {
+  // Shortest text that reads back to the same double; TOML needs a '.' or exponent in floats.
+  std::string s = fmt::format("{}", v);
+  if (std::isfinite(v) && s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  if (std::isnan(v)) s = "nan";
+  if (std::isinf(v)) s = v > 0 ? "inf" : "-inf";
+  return s;
+}
+
+std::string leaf_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
+// "fluid.density" -> "[fluid] density"; "domain.walls.x" -> "[domain] walls.x"
+std::string display_key(std::string_view path) {
+  const std::string p(path);
+  const auto dot = p.find('.');
+  if (dot == std::string::npos) return p;
+  return "[" + p.substr(0, dot) + "] " + p.substr(dot + 1);
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::optional<Value> value_from_node(const toml::node& node, Kind kind) {
+  switch (kind) {
+    case Kind::Boolean:
+      if (auto v = node.as_boolean()) return Value(v->get());
+      return std::nullopt;
+    case Kind::Integer:
+      if (auto v = node.as_integer()) return Value(v->get());
+      return std::nullopt;
+    case Kind::Real:
+      if (auto v = node.as_floating_point()) return Value(v->get());
+      if (auto v = node.as_integer()) return Value(static_cast<double>(v->get()));
+      return std::nullopt;
+    case Kind::String:
+      if (auto v = node.as_string()) return Value(v->get());
+      return std::nullopt;
+    case Kind::RealArray: {
+      const toml::array* array = node.as_array();
+      if (!array) return std::nullopt;
+      std::vector<double> out;
+      for (const toml::node& element : *array) {
+        if (auto f = element.as_floating_point()) out.push_back(f->get());
+        else if (auto i = element.as_integer()) out.push_back(static_cast<double>(i->get()));
+        else return std::nullopt;
+      }
+      return Value(std::move(out));
+    }
+  }
+  return std::nullopt;
+}
+
+std::string node_text(const toml::node& node) {
+  std::ostringstream out;
+  node.visit([&](auto&& n) { out << n; });
+  std::string s = out.str();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+void walk(const toml::table& table, const std::string& prefix, CaseValues& values, std::string_view origin) {
+  for (auto&& [key, node] : table) {
+    const std::string path = prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
+    const KeySpec* spec = values.schema().find(path);
+    if (!spec && node.is_table()) {
+      walk(*node.as_table(), path, values, origin);
+      continue;
+    }
+    if (!spec) {
+      std::string message = fmt::format("{}: unknown key {}", origin, display_key(path));
+      if (auto close = values.schema().suggest(path)) message += fmt::format(" (did you mean {}?)", display_key(*close));
+      else message += fmt::format("; see `settle schema` for the keys a case may hold");
+      throw InputError(message);
+    }
+    auto value = value_from_node(node, spec->kind);
+    if (!value)
+      throw InputError(fmt::format("{}: {} = {}: expected {}", origin, display_key(path), node_text(node),
+                                   to_string(spec->kind)));
+    values.set(path, std::move(*value), origin);
+  }
+}
+
+}  // namespace
+
+bool Range::contains(double v) const {
+  if (std::isnan(v)) return false;
+  const bool above = min_inclusive ? v >= min : v > min;
+  const bool below = max_inclusive ? v <= max : v < max;
+  return above && below;
+}
+
+std::string Range::describe() const {
+  const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
+  if (has_min && has_max)
+    return fmt::format("in {}{}, {}{}", min_inclusive ? "[" : "(", format_number(min), format_number(max),
+                       max_inclusive ? "]" : ")");
+  if (has_min) return fmt::format("{} {}", min_inclusive ? ">=" : ">", format_number(min));
+  if (has_max) return fmt::format("{} {}", max_inclusive ? "<=" : "<", format_number(max));
+  return "finite";
+}
+
+std::string_view to_string(Kind kind) {
+  switch (kind) {
+    case Kind::Boolean: return "a boolean (true or false)";
+    case Kind::Integer: return "an integer";
+    case Kind::Real: return "a number";
+    case Kind::String: return "a string";
+    case Kind::RealArray: return "an array of numbers";
+  }
+  return "?";
+}
+
+std::string to_toml(const Value& value) {
+  struct Visitor {
+    std::string operator()(bool b) const { return b ? "true" : "false"; }
+    std::string operator()(std::int64_t i) const { return std::to_string(i); }
+    std::string operator()(double d) const { return format_number(d); }
+    std::string operator()(const std::string& s) const {
+      std::string out = "\"";
+      for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+      }
+      return out + "\"";
+    }
+    std::string operator()(const std::vector<double>& v) const {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + format_number(v[i]);
+      return out + "]";
+    }
+  };
+  return std::visit(Visitor{}, value);
+}
+
+Schema::Schema(std::vector<KeySpec> keys) : keys_(std::move(keys)) {
+  for (const KeySpec& k : keys_)
+    if (k.default_value && !check_value(k, *k.default_value).empty())
+      throw std::logic_error("schema: default of " + k.path + " violates its own declaration");
+}
+
+const KeySpec* Schema::find(std::string_view path) const {
+  for (const KeySpec& k : keys_)
+    if (k.path == path) return &k;
+  return nullptr;
+}
+
+std::optional<std::string> Schema::suggest(std::string_view path) const {
+  std::optional<std::string> best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  const std::string wanted_leaf = leaf_of(std::string(path));
+  for (const KeySpec& k : keys_) {
+    // A misspelt leaf in the right table, or the right leaf in the wrong table.
+    const std::size_t d = std::min(edit_distance(path, k.path),
+                                   leaf_of(k.path) == wanted_leaf ? std::size_t{1} : edit_distance(path, k.path));
+    if (d < best_distance) best_distance = d, best = k.path;
+  }
+  const std::size_t allowed = std::max<std::size_t>(2, wanted_leaf.size() / 3);
+  if (best_distance <= allowed) return best;
+  return std::nullopt;
+}
+
+std::string check_value(const KeySpec& spec, const Value& value) {
+  const std::string shown = to_toml(value);
+  const auto fail = [&](const std::string& what) {
+    return fmt::format("{} = {}: must be {}{}", display_key(spec.path), shown, what,
+                       spec.unit.empty() ? "" : fmt::format(" ({})", spec.unit));
+  };
+  switch (spec.kind) {
+    case Kind::Boolean:
+      if (!std::holds_alternative<bool>(value)) return fail(std::string(to_string(spec.kind)));
+      return "";
+    case Kind::Integer: {
+      if (!std::holds_alternative<std::int64_t>(value)) return fail(std::string(to_string(spec.kind)));
+      const double v = static_cast<double>(std::get<std::int64_t>(value));
+      return spec.range.contains(v) ? "" : fail(spec.range.describe());
+    }
+    case Kind::Real: {
+      if (!std::holds_alternative<double>(value)) return fail(std::string(to_string(spec.kind)));
+      const double v = std::get<double>(value);
+      if (!std::isfinite(v)) return fail("finite, " + spec.range.describe());
+      return spec.range.contains(v) ? "" : fail(spec.range.describe());
+    }
+    case Kind::String: {
+      if (!std::holds_alternative<std::string>(value)) return fail(std::string(to_string(spec.kind)));
+      const auto& s = std::get<std::string>(value);
+      if (spec.choices.empty() || std::find(spec.choices.begin(), spec.choices.end(), s) != spec.choices.end())
+        return "";
+      std::string allowed;
+      for (const auto& c : spec.choices) allowed += (allowed.empty() ? "" : ", ") + ("\"" + c + "\"");
+      return fail("one of " + allowed);
+    }
+    case Kind::RealArray: {
+      if (!std::holds_alternative<std::vector<double>>(value)) return fail(std::string(to_string(spec.kind)));
+      const auto& v = std::get<std::vector<double>>(value);
+      if (spec.array_length > 0 && static_cast<int>(v.size()) != spec.array_length)
+        return fail(fmt::format("an array of {} numbers", spec.array_length));
+      if (v.empty()) return fail("a non-empty array");
+      for (double x : v)
+        if (!std::isfinite(x) || !spec.range.contains(x))
+          return fail("an array whose elements are finite and " + spec.range.describe());
+      return "";
+    }
+  }
+  return "";
+}
+
+bool CaseValues::has(std::string_view path) const { return values_.find(path) != values_.end(); }
+
+bool CaseValues::given(std::string_view path) const {
+  const auto it = given_.find(path);
+  return it != given_.end() && it->second;
+}
+
+const KeySpec& CaseValues::spec(std::string_view path) const {
+  const KeySpec* s = schema_->find(path);
+  if (!s) throw std::logic_error("case: key " + std::string(path) + " is not declared in the schema");
+  return *s;
+}
+
+const Value& CaseValues::value(std::string_view path) const {
+  spec(path);
+  const auto it = values_.find(path);
+  if (it == values_.end())
+    throw InputError(fmt::format("{} is required here but not given", display_key(path)));
+  return it->second;
+}
+
+double CaseValues::real(std::string_view path) const { return std::get<double>(value(path)); }
+std::int64_t CaseValues::integer(std::string_view path) const { return std::get<std::int64_t>(value(path)); }
+bool CaseValues::boolean(std::string_view path) const { return std::get<bool>(value(path)); }
+const std::string& CaseValues::string(std::string_view path) const { return std::get<std::string>(value(path)); }
+const std::vector<double>& CaseValues::reals(std::string_view path) const {
+  return std::get<std::vector<double>>(value(path));
+}
+
+void CaseValues::set(std::string_view path, Value v, std::string_view origin, bool user_given) {
+  const KeySpec* s = schema_->find(path);
+  if (!s) {
+    std::string message = fmt::format("{}: unknown key {}", origin, display_key(path));
+    if (auto close = schema_->suggest(path)) message += fmt::format(" (did you mean {}?)", display_key(*close));
+    throw InputError(message);
+  }
+  // Integers are accepted where reals are declared (TOML writes 1000 for 1000.0).
+  if (s->kind == Kind::Real && std::holds_alternative<std::int64_t>(v))
+    v = static_cast<double>(std::get<std::int64_t>(v));
+  if (const std::string error = check_value(*s, v); !error.empty())
+    throw InputError(fmt::format("{}: {}", origin, error));
+  values_.insert_or_assign(std::string(path), std::move(v));
+  given_.insert_or_assign(std::string(path), user_given);
+}
+
+CaseValues parse_case(const Schema& schema, std::string_view toml_text, std::string_view origin) {
+  CaseValues values(schema);
+  for (const KeySpec& k : schema.keys())
+    if (k.default_value) values.set(k.path, *k.default_value, "schema default", false);
+  toml::table table;
+  try {
+    table = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    const auto& where = e.source().begin;
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", origin, where.line, where.column, e.description()));
+  }
+  walk(table, "", values, origin);
+  return values;
+}
+
+void apply_override(CaseValues& values, std::string_view assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string_view::npos || eq == 0)
+    throw InputError(fmt::format("--set {}: expected key=value, e.g. --set fluid.density=1000", assignment));
+  std::string path(assignment.substr(0, eq));
+  path.erase(std::remove_if(path.begin(), path.end(), [](char c) { return c == ' '; }), path.end());
+  const std::string document = "v = " + std::string(assignment.substr(eq + 1));
+  toml::table table;
+  try {
+    table = toml::parse(std::string_view(document), std::string_view("--set"));
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("--set {}: the value is not valid TOML ({})", assignment, e.description()));
+  }
+  const KeySpec* spec = values.schema().find(path);
+  if (!spec) {
+    std::string message = fmt::format("--set: unknown key {}", display_key(path));
+    if (auto close = values.schema().suggest(path)) message += fmt::format(" (did you mean {}?)", *close);
+    throw InputError(message);
+  }
+  auto value = value_from_node(*table.get("v"), spec->kind);
+  if (!value)
+    throw InputError(fmt::format("--set {}: expected {}", assignment, to_string(spec->kind)));
+  values.set(path, std::move(*value), "--set");
+}
+
+std::string write_resolved_toml(const CaseValues& values) {
+  std::string out;
+  std::string current_table = "\x01";
+  for (const KeySpec& k : values.schema().keys()) {
+    if (!values.has(k.path)) continue;
+    // Nested tables (domain.walls.x) are written with dotted keys inside their top-level table.
+    const std::string path = k.path;
+    const auto dot = path.find('.');
+    const std::string table = dot == std::string::npos ? std::string() : path.substr(0, dot);
+    const std::string key = dot == std::string::npos ? path : path.substr(dot + 1);
+    if (table != current_table) {
+      out += fmt::format("{}[{}]\n", out.empty() ? "" : "\n", table);
+      current_table = table;
+    }
+    out += fmt::format("{} = {}", key, to_toml(values.value(k.path)));
+    out += fmt::format("  # {}{}{}\n", k.unit.empty() ? "" : "[" + k.unit + "] ", k.doc,
+                       values.given(k.path) ? "" : " (default)");
+  }
+  return out;
+}
+
+std::string schema_markdown(const Schema& schema) {
+  std::string out = "| key | type | default | allowed | unit | meaning |\n| --- | --- | --- | --- | --- | --- |\n";
+  for (const KeySpec& k : schema.keys()) {
+    std::string allowed;
+    if (!k.choices.empty()) {
+      for (const auto& c : k.choices) allowed += (allowed.empty() ? "" : ", ") + ("`" + c + "`");
+    } else if (k.kind == Kind::Real || k.kind == Kind::Integer || k.kind == Kind::RealArray) {
+      allowed = k.range.describe();
+      if (k.kind == Kind::RealArray && k.array_length > 0) allowed = fmt::format("{} numbers, each {}", k.array_length, allowed);
+    }
+    std::string type(to_string(k.kind));
+    out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", display_key(k.path), type,
+                       k.default_value ? "`" + to_toml(*k.default_value) + "`" : "(none)", allowed, k.unit, k.doc);
+  }
+  return out;
+}
+
+}  // namespace settle::io

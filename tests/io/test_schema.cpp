@@ -1,0 +1,117 @@
+// The schema machinery: defaults, type and range checks, unknown keys with suggestions,
+// overrides, and the resolved TOML reading back to the same values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "io/schema.hpp"
+
+namespace settle::io {
+namespace {
+
+Schema test_schema() {
+  std::vector<KeySpec> keys;
+  keys.push_back({"fluid.density", Kind::Real, Value(998.2), "kg/m^3", "fluid density", {0.0, INFINITY, false, true}, {}, 0});
+  keys.push_back({"fluid.gravity", Kind::RealArray, Value(std::vector<double>{0, 0, -9.81}), "m/s^2", "gravity", {}, {}, 3});
+  keys.push_back({"particle.shape", Kind::String, Value(std::string("sphere")), "", "shape", {}, {"sphere", "spheroid"}, 0});
+  keys.push_back({"particle.diameter", Kind::Real, std::nullopt, "m", "diameter", {0.0, INFINITY, false, true}, {}, 0});
+  keys.push_back({"domain.walls.x", Kind::String, Value(std::string("no-slip")), "", "x walls", {}, {"no-slip", "periodic"}, 0});
+  keys.push_back({"run.steps", Kind::Integer, Value(std::int64_t{10}), "", "steps", {1, 1e6, true, true}, {}, 0});
+  keys.push_back({"run.stop", Kind::Boolean, Value(false), "", "stop early", {}, {}, 0});
+  return Schema(std::move(keys));
+}
+
+std::string error_of(const std::string& toml) {
+  try {
+    parse_case(test_schema(), toml, "case.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(Schema, DefaultsApplyAndGivenValuesOverride) {
+  const Schema schema = test_schema();
+  const CaseValues v = parse_case(schema, "[fluid]\ndensity = 1000\n[domain]\nwalls = { x = \"periodic\" }\n", "c");
+  EXPECT_DOUBLE_EQ(v.real("fluid.density"), 1000.0);  // integer accepted for a real
+  EXPECT_TRUE(v.given("fluid.density"));
+  EXPECT_FALSE(v.given("fluid.gravity"));
+  EXPECT_EQ(v.reals("fluid.gravity"), (std::vector<double>{0, 0, -9.81}));
+  EXPECT_EQ(v.string("domain.walls.x"), "periodic");
+  EXPECT_FALSE(v.has("particle.diameter"));
+  EXPECT_THROW(v.real("particle.diameter"), InputError);  // required by a caller, not given
+}
+
+TEST(Schema, ErrorsNameFileKeyValueAndWhatIsAllowed) {
+  std::string e = error_of("[fluid]\ndensity = -3.0\n");
+  EXPECT_TRUE(contains(e, "case.toml")) << e;
+  EXPECT_TRUE(contains(e, "[fluid] density")) << e;
+  EXPECT_TRUE(contains(e, "-3.0")) << e;
+  EXPECT_TRUE(contains(e, "> 0")) << e;
+
+  e = error_of("[fluid]\ndensity = \"water\"\n");
+  EXPECT_TRUE(contains(e, "expected a number")) << e;
+  e = error_of("[fluid]\ndensity = nan\n");
+  EXPECT_TRUE(contains(e, "finite")) << e;
+  e = error_of("[fluid]\ngravity = [0.0, -9.81]\n");
+  EXPECT_TRUE(contains(e, "3 numbers")) << e;
+  e = error_of("[fluid]\ngravity = [0.0, inf, 1.0]\n");
+  EXPECT_TRUE(contains(e, "finite")) << e;
+  e = error_of("[particle]\nshape = \"cube\"\n");
+  EXPECT_TRUE(contains(e, "\"sphere\", \"spheroid\"")) << e;
+  e = error_of("[run]\nsteps = 0\n");
+  EXPECT_TRUE(contains(e, "in [1.0, 1000000.0]")) << e;
+  e = error_of("[run]\nstop = 1\n");
+  EXPECT_TRUE(contains(e, "boolean")) << e;
+  e = error_of("[fluid\ndensity = 1\n");
+  EXPECT_TRUE(contains(e, "case.toml:1")) << e;
+  EXPECT_TRUE(contains(e, "syntax")) << e;
+}
+
+TEST(Schema, UnknownKeysAreErrorsWithASuggestion) {
+  std::string e = error_of("[fluid]\ndensty = 1000.0\n");
+  EXPECT_TRUE(contains(e, "unknown key [fluid] densty")) << e;
+  EXPECT_TRUE(contains(e, "did you mean [fluid] density?")) << e;
+  e = error_of("[particle]\ndensity = 1000.0\n");  // right leaf, wrong table
+  EXPECT_TRUE(contains(e, "did you mean [fluid] density?")) << e;
+  e = error_of("[something]\ncompletely_different = 1\n");
+  EXPECT_TRUE(contains(e, "unknown key")) << e;
+  EXPECT_FALSE(contains(e, "did you mean")) << e;
+}
+
+TEST(Schema, OverridesAreCheckedLikeTheFile) {
+  const Schema schema = test_schema();
+  CaseValues v = parse_case(schema, "", "c");
+  apply_override(v, "fluid.density=1050");
+  EXPECT_DOUBLE_EQ(v.real("fluid.density"), 1050.0);
+  apply_override(v, "fluid.gravity=[0, 0, -1]");
+  EXPECT_EQ(v.reals("fluid.gravity")[2], -1.0);
+  EXPECT_THROW(apply_override(v, "fluid.density=-1"), InputError);
+  EXPECT_THROW(apply_override(v, "fluid.densty=1"), InputError);
+  EXPECT_THROW(apply_override(v, "no_equals_sign"), InputError);
+}
+
+TEST(Schema, ResolvedTomlReadsBackToTheSameValues) {
+  const Schema schema = test_schema();
+  const CaseValues v = parse_case(schema, "[fluid]\ndensity = 1000.1234567890123\n[particle]\ndiameter = 1e-3\n", "c");
+  const std::string resolved = write_resolved_toml(v);
+  const CaseValues back = parse_case(schema, resolved, "resolved");
+  for (const KeySpec& k : schema.keys()) {
+    ASSERT_EQ(v.has(k.path), back.has(k.path)) << k.path;
+    if (v.has(k.path)) {
+      EXPECT_EQ(v.value(k.path), back.value(k.path)) << k.path << "\n" << resolved;
+    }
+  }
+}
+
+TEST(Schema, MarkdownTableListsEveryKey) {
+  const Schema schema = test_schema();
+  const std::string md = schema_markdown(schema);
+  for (const KeySpec& k : schema.keys()) EXPECT_TRUE(contains(md, k.doc)) << k.path;
+}
+
+}  // namespace
+}  // namespace settle::io
