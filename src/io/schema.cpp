@@ -216,7 +216,7 @@ std::string check_value(const KeySpec& spec, const Value& value) {
       if (spec.choices.empty() || std::find(spec.choices.begin(), spec.choices.end(), s) != spec.choices.end())
         return "";
       std::string allowed;
-      for (const auto& c : spec.choices) allowed += (allowed.empty() ? "" : ", ") + ("\"" + c + "\"");
+      for (const auto& c : spec.choices) allowed += fmt::format("{}\"{}\"", allowed.empty() ? "" : ", ", c);
       return fail("one of " + allowed);
     }
     case Kind::RealArray: {
@@ -345,7 +345,7 @@ std::string schema_markdown(const Schema& schema) {
   for (const KeySpec& k : schema.keys()) {
     std::string allowed;
     if (!k.choices.empty()) {
-      for (const auto& c : k.choices) allowed += (allowed.empty() ? "" : ", ") + ("`" + c + "`");
+      for (const auto& c : k.choices) allowed += fmt::format("{}`{}`", allowed.empty() ? "" : ", ", c);
     } else if (k.kind == Kind::Real || k.kind == Kind::Integer || k.kind == Kind::RealArray) {
       allowed = k.range.describe();
       if (k.kind == Kind::RealArray && k.array_length > 0) allowed = fmt::format("{} numbers, each {}", k.array_length, allowed);
