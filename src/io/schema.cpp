@@ -32,7 +32,7 @@ std::string display_key(std::string_view path) {
   const std::string p(path);
   const auto dot = p.find('.');
   if (dot == std::string::npos) return p;
-  return "[" + p.substr(0, dot) + "] " + p.substr(dot + 1);
+  return fmt::format("[{}] {}", p.substr(0, dot), p.substr(dot + 1));
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
