@@ -350,9 +350,9 @@ std::string schema_markdown(const Schema& schema) {
       allowed = k.range.describe();
       if (k.kind == Kind::RealArray && k.array_length > 0) allowed = fmt::format("{} numbers, each {}", k.array_length, allowed);
     }
-    std::string type(to_string(k.kind));
-    out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", display_key(k.path), type,
-                       k.default_value ? "`" + to_toml(*k.default_value) + "`" : "(none)", allowed, k.unit, k.doc);
+    const std::string default_text = k.default_value ? fmt::format("`{}`", to_toml(*k.default_value)) : "(none)";
+    out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", display_key(k.path), to_string(k.kind), default_text,
+                       allowed, k.unit, k.doc);
   }
   return out;
 }
