@@ -115,3 +115,64 @@ TEST(Schema, MarkdownTableListsEveryKey) {
 
 }  // namespace
 }  // namespace settle::io
+
+#include "io/case_schema.hpp"
+
+namespace settle::io {
+namespace {
+
+TEST(CaseSchema, EveryDefaultSatisfiesItsOwnDeclarationAndTheDesignKeysExist) {
+  // The Schema constructor rejects a default outside its range; building it is the check.
+  const Schema& schema = case_schema();
+  // The key names of DESIGN.md section 3 are a contract: none may go missing.
+  for (const char* key :
+       {"fluid.density", "fluid.dynamic_viscosity", "fluid.gravity", "fluid.body_force", "particle.shape",
+        "particle.diameter", "particle.aspect_ratio", "particle.semi_axes", "particle.exponents", "particle.length",
+        "particle.size", "particle.file", "particle.scale", "particle.density", "particle.motion",
+        "particle.towing_velocity", "particle.position", "particle.euler", "particle.velocity",
+        "particle.angular_velocity", "domain.size", "domain.walls.x", "domain.walls.y", "domain.walls.z",
+        "domain.follow_particle", "numerics.cells_per_diameter", "numerics.collision", "numerics.precision",
+        "run.end_time", "run.output_interval", "run.vtk_interval", "run.stop_at_terminal",
+        "run.checkpoint_interval"})
+    EXPECT_NE(schema.find(key), nullptr) << key;
+}
+
+TEST(CaseSchema, TheDesignDocumentsExampleCaseParses) {
+  const char* example = R"(
+[fluid]
+density = 998.2
+dynamic_viscosity = 1.0e-3
+gravity = [0.0, 0.0, -9.81]
+[particle]
+shape = "spheroid"
+diameter = 2.0e-3
+aspect_ratio = 2.5
+density = 1050.0
+motion = "free"
+position = [0.02, 0.02, 0.10]
+euler = [0.0, 0.5, 0.0]
+velocity = [0.0, 0.0, 0.0]
+angular_velocity = [0.0, 0.0, 0.0]
+[domain]
+size = [0.04, 0.04, 0.12]
+walls = { x = "no-slip", y = "no-slip", z = "no-slip" }
+follow_particle = false
+[numerics]
+cells_per_diameter = 16
+collision = "trt"
+precision = "double"
+[run]
+end_time = 1.0
+output_interval = 0.005
+vtk_interval = 0.0
+stop_at_terminal = false
+checkpoint_interval = 0.0
+)";
+  const CaseValues v = parse_case(case_schema(), example, "design.toml");
+  EXPECT_EQ(v.string("particle.shape"), "spheroid");
+  EXPECT_DOUBLE_EQ(v.real("numerics.cells_per_diameter"), 16.0);
+  EXPECT_EQ(v.reals("domain.size")[2], 0.12);
+}
+
+}  // namespace
+}  // namespace settle::io

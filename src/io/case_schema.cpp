@@ -1,0 +1,98 @@
+#include "io/case_schema.hpp"
+
+#include <cmath>
+
+namespace settle::io {
+namespace {
+
+constexpr double kInf = INFINITY;
+
+Range positive() { return {0.0, kInf, false, true}; }
+Range non_negative() { return {0.0, kInf, true, true}; }
+Range closed(double lo, double hi) { return {lo, hi, true, true}; }
+
+Value vec(double x, double y, double z) { return Value(std::vector<double>{x, y, z}); }
+Value text(const char* s) { return Value(std::string(s)); }
+
+// Shorthands keep the declaration readable as a table.
+KeySpec real(const char* path, std::optional<Value> def, const char* unit, Range range, const char* doc) {
+  return {path, Kind::Real, std::move(def), unit, doc, range, {}, 0};
+}
+KeySpec vector3(const char* path, std::optional<Value> def, const char* unit, Range range, const char* doc) {
+  return {path, Kind::RealArray, std::move(def), unit, doc, range, {}, 3};
+}
+KeySpec choice(const char* path, const char* def, std::vector<std::string> choices, const char* doc) {
+  return {path, Kind::String, text(def), "", doc, {}, std::move(choices), 0};
+}
+KeySpec integer(const char* path, std::int64_t def, Range range, const char* doc) {
+  return {path, Kind::Integer, Value(def), "", doc, range, {}, 0};
+}
+KeySpec boolean(const char* path, bool def, const char* doc) {
+  return {path, Kind::Boolean, Value(def), "", doc, {}, {}, 0};
+}
+
+std::vector<KeySpec> declare() {
+  const std::vector<std::string> walls{"no-slip", "free-slip", "periodic"};
+  return {
+      // [fluid]
+      real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density"),
+      real("fluid.dynamic_viscosity", Value(1.0e-3), "Pa s", positive(), "dynamic viscosity"),
+      vector3("fluid.gravity", vec(0.0, 0.0, -9.81), "m/s^2", {}, "gravitational acceleration"),
+      vector3("fluid.body_force", vec(0.0, 0.0, 0.0), "N/m^3", {},
+              "force density on the fluid (drives flow past a fixed body in a periodic box)"),
+      // [particle]
+      choice("particle.shape", "sphere",
+             {"sphere", "spheroid", "ellipsoid", "cylinder", "cuboid", "superellipsoid", "mesh"}, "particle shape"),
+      real("particle.diameter", std::nullopt, "m", positive(), "sphere, spheroid (equatorial) and cylinder diameter"),
+      real("particle.aspect_ratio", std::nullopt, "", positive(),
+           "spheroid polar / equatorial diameter (> 1 prolate, < 1 oblate)"),
+      vector3("particle.semi_axes", std::nullopt, "m", positive(),
+              "ellipsoid and superellipsoid semi-axes along body x, y, z"),
+      {"particle.exponents", Kind::RealArray, std::nullopt, "", "superellipsoid exponents e1 (z), e2 (x-y)",
+       closed(0.1, 4.0), {}, 2},
+      real("particle.length", std::nullopt, "m", positive(), "cylinder length along body z (a disk is a short cylinder)"),
+      vector3("particle.size", std::nullopt, "m", positive(), "cuboid edge lengths along body x, y, z"),
+      {"particle.file", Kind::String, std::nullopt, "", "mesh: watertight STL file (relative to the case file)", {}, {}, 0},
+      real("particle.scale", Value(1.0), "m per file unit", positive(), "mesh: factor from file units to metres"),
+      real("particle.density", Value(1050.0), "kg/m^3", positive(), "particle density"),
+      choice("particle.motion", "free", {"free", "towed", "fixed"},
+             "free (6 degrees of freedom), towed (constant velocity and attitude) or fixed"),
+      vector3("particle.towing_velocity", std::nullopt, "m/s", {}, "velocity of a towed particle"),
+      vector3("particle.position", std::nullopt, "m", {}, "initial centre of mass (default: the domain's centre)"),
+      vector3("particle.euler", vec(0.0, 0.0, 0.0), "rad", {},
+              "initial attitude, set-1 Euler angles (psi, theta, gamma), body to inertial"),
+      vector3("particle.velocity", vec(0.0, 0.0, 0.0), "m/s", {}, "initial velocity"),
+      vector3("particle.angular_velocity", vec(0.0, 0.0, 0.0), "rad/s", {}, "initial angular velocity, body frame"),
+      // [domain]
+      vector3("domain.size", std::nullopt, "m", positive(), "extent of the domain from the origin"),
+      choice("domain.walls.x", "no-slip", walls, "boundary of the two faces normal to x"),
+      choice("domain.walls.y", "no-slip", walls, "boundary of the two faces normal to y"),
+      choice("domain.walls.z", "no-slip", walls, "boundary of the two faces normal to z"),
+      boolean("domain.follow_particle", false, "moving window: the fluid window follows the particle"),
+      // [numerics]
+      real("numerics.cells_per_diameter", Value(16.0), "", closed(4.0, 256.0),
+           "grid cells per volume-equivalent diameter"),
+      choice("numerics.lattice", "D3Q19", {"D3Q19", "D3Q27"}, "lattice"),
+      choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized"}, "collision model"),
+      choice("numerics.precision", "double", {"double", "float"}, "storage precision of the populations"),
+      choice("numerics.delta_kernel", "roma3", {"roma3", "peskin4"}, "immersed-boundary delta kernel"),
+      integer("numerics.forcing_iterations", 3, closed(1, 50), "multi-direct forcing sweeps per step"),
+      real("numerics.marker_retraction", Value(0.3), "cells", closed(0.0, 0.5),
+           "markers sit this far inside the surface (Breugem 2012)"),
+      // [run]
+      real("run.end_time", Value(1.0), "s", positive(), "simulated time to run"),
+      real("run.output_interval", Value(0.005), "s", non_negative(), "interval of timeseries.csv rows (0 = every step)"),
+      real("run.vtk_interval", Value(0.0), "s", non_negative(), "interval of VTK output (0 = none)"),
+      boolean("run.stop_at_terminal", false, "end once the terminal state is reached"),
+      real("run.checkpoint_interval", Value(0.0), "s", non_negative(), "simulated time between checkpoints (0 = none)"),
+  };
+}
+
+}  // namespace
+
+const Schema& case_schema() {
+  static const Schema schema(declare());
+  return schema;
+}
+
+}  // namespace settle::io
