@@ -8,5 +8,6 @@ namespace settle::app {
 void add_attitude_command(CLI::App& app);
 void add_shape_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_schema_command(CLI::App& app);
 
 }  // namespace settle::app
