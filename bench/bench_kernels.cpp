@@ -1,0 +1,65 @@
+// Micro-benchmarks of settle's kernels (Google Benchmark), for developers comparing changes.
+// The user-facing fluid benchmark with the bandwidth roofline is `settle bench`.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "attitude/integrators.hpp"
+#include "ibm/forcing.hpp"
+#include "lbm/solver.hpp"
+
+namespace {
+
+using namespace settle;
+
+// One fluid step of a periodic N^3 box, D3Q19 TRT with forcing, double or float storage.
+void BM_LbmStep(benchmark::State& state) {
+  lbm::SolverConfig config;
+  config.nx = config.ny = config.nz = static_cast<int>(state.range(0));
+  config.precision = state.range(1) ? lbm::Precision::float32 : lbm::Precision::float64;
+  config.body_force = Eigen::Vector3d(1e-7, 0.0, 0.0);
+  auto solver = lbm::make_solver(config);
+  solver->initialise([](int, int, int) { return lbm::CellState{}; });
+  solver->run(2);
+  for (auto _ : state) solver->step();
+  state.counters["MLUPS"] = benchmark::Counter(static_cast<double>(solver->cell_count()) * 1e-6,
+                                               benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_LbmStep)->ArgsProduct({{64, 128}, {0, 1}})->Unit(benchmark::kMillisecond);
+
+// One dual-Euler RK4 step with interpolated body rates (the coupled solver's form).
+void BM_DualEulerStep(benchmark::State& state) {
+  attitude::Attitude a = attitude::Attitude::from_set1(0.3, 0.7, -0.2);
+  const Eigen::Vector3d w0(0.1, 1.0, -0.3), w1(0.11, 0.99, -0.29);
+  for (auto _ : state) {
+    attitude::dual_euler_step(a, 1e-3, w0, w1);
+    benchmark::DoNotOptimize(a);
+  }
+}
+BENCHMARK(BM_DualEulerStep);
+
+// Multi-direct forcing on a sphere of radius R cells (about 4 pi R^2 markers), 3 sweeps.
+void BM_MultiDirectForcing(benchmark::State& state) {
+  const double radius = static_cast<double>(state.range(0));
+  const int box = static_cast<int>(2 * radius) + 8;
+  const int n = static_cast<int>(std::round(4.0 * std::numbers::pi * radius * radius));
+  ibm::Markers markers;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  const Eigen::Vector3d centre = Eigen::Vector3d::Constant(box / 2.0);
+  for (int l = 0; l < n; ++l) {
+    const double z = 1.0 - (2.0 * l + 1.0) / n, r = std::sqrt(1.0 - z * z);
+    markers.position.push_back(centre + radius * Eigen::Vector3d(r * std::cos(golden * l), r * std::sin(golden * l), z));
+    markers.target_velocity.push_back(Eigen::Vector3d::Zero());
+    markers.volume.push_back(4.0 * std::numbers::pi * radius * radius / n);
+  }
+  for (auto _ : state) {
+    ibm::LocalGrid grid({0, 0, 0}, {box, box, box});
+    for (auto& u : grid.velocity[0]) u = 0.01;
+    benchmark::DoNotOptimize(ibm::multi_direct_forcing(grid, markers, {ibm::DeltaKernel::Roma3, 3}));
+  }
+  state.counters["markers"] = n;
+}
+BENCHMARK(BM_MultiDirectForcing)->Arg(8)->Arg(10)->Unit(benchmark::kMicrosecond);
+
+}  // namespace

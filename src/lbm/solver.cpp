@@ -1,0 +1,83 @@
+#include "lbm/solver.hpp"
+
+#include "lbm/aa_solver.hpp"
+
+namespace settle::lbm {
+
+namespace {
+
+template <Lattice L, class Collision>
+std::unique_ptr<Solver> make_with_precision(const SolverConfig& config) {
+  if (config.precision == Precision::float32) {
+    return std::make_unique<AaSolver<L, Collision, float>>(config);
+  }
+  return std::make_unique<AaSolver<L, Collision, double>>(config);
+}
+
+template <Lattice L>
+std::unique_ptr<Solver> make_with_collision(const SolverConfig& config) {
+  switch (config.collision) {
+    case CollisionKind::bgk: return make_with_precision<L, Bgk>(config);
+    case CollisionKind::trt: return make_with_precision<L, Trt>(config);
+    case CollisionKind::recursive_regularized:
+      return make_with_precision<L, RecursiveRegularized>(config);
+  }
+  return nullptr;
+}
+
+/// d/d(axis) of `field` at cell (x, y, z) by second-order differences.
+double derivative(const Solver& solver, const std::vector<double>& field, int axis, int x, int y,
+                  int z) {
+  const std::array<int, 3> extent{solver.nx(), solver.ny(), solver.nz()};
+  const int n = extent[axis];
+  if (n == 1) return 0.0;
+  std::array<int, 3> c{x, y, z};
+  const auto at = [&](int k) {
+    std::array<int, 3> p = c;
+    p[axis] = k;
+    return field[solver.linear_index(p[0], p[1], p[2])];
+  };
+  const int k = c[axis];
+  if (solver.config().boundaries[axis] == Boundary::periodic) {
+    return 0.5 * (at((k + 1) % n) - at((k - 1 + n) % n));
+  }
+  if (n == 2) return at(1) - at(0);
+  if (k == 0) return 0.5 * (-3.0 * at(0) + 4.0 * at(1) - at(2));
+  if (k == n - 1) return 0.5 * (3.0 * at(n - 1) - 4.0 * at(n - 2) + at(n - 3));
+  return 0.5 * (at(k + 1) - at(k - 1));
+}
+
+}  // namespace
+
+std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
+  validate(config);
+  if (config.lattice == LatticeKind::D3Q27) return make_with_collision<D3Q27>(config);
+  return make_with_collision<D3Q19>(config);
+}
+
+std::vector<double> Solver::pressure_field() const {
+  std::vector<double> p = density_field();
+  for (double& value : p) value = cs2 * (value - 1.0);
+  return p;
+}
+
+VectorField Solver::vorticity_field() const {
+  const VectorField u = velocity_field();
+  VectorField w{std::vector<double>(cell_count()), std::vector<double>(cell_count()),
+                std::vector<double>(cell_count())};
+  const int nx_ = nx(), ny_ = ny(), nz_ = nz();
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int z = 0; z < nz_; ++z) {
+    for (int y = 0; y < ny_; ++y) {
+      for (int x = 0; x < nx_; ++x) {
+        const std::size_t n = linear_index(x, y, z);
+        w.x[n] = derivative(*this, u.z, 1, x, y, z) - derivative(*this, u.y, 2, x, y, z);
+        w.y[n] = derivative(*this, u.x, 2, x, y, z) - derivative(*this, u.z, 0, x, y, z);
+        w.z[n] = derivative(*this, u.y, 0, x, y, z) - derivative(*this, u.x, 1, x, y, z);
+      }
+    }
+  }
+  return w;
+}
+
+}  // namespace settle::lbm

@@ -1,0 +1,126 @@
+#pragma once
+// The fluid solver's run-time interface. One virtual call per step (or per query); the hot
+// loop lives in AaSolver<Lattice, Collision, Real> (lbm/aa_solver.hpp), instantiated for
+// every combination by make_solver().
+//
+// Cell coordinates (x, y, z) are interior cell indices, 0 <= x < nx etc.; cell (x, y, z)
+// has its centre at (x + 1/2, y + 1/2, z + 1/2) in lattice units, so half-way walls lie at
+// 0 and nx. The linear cell index used by every field returned here and by the force array
+// is  x + nx * (y + ny * z)  (x fastest).
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "lbm/config.hpp"
+
+namespace settle::lbm {
+
+/// A vector field on the interior cells, one array per component (SoA), linear cell index
+/// x + nx * (y + ny * z).
+struct VectorField {
+  std::vector<double> x, y, z;
+};
+
+/// Density and velocity of one cell (velocity includes Guo's half-force correction).
+struct CellState {
+  double density = 1.0;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+/// Mass bookkeeping of one moving-window shift (lattice units: density times cell volume 1).
+struct ShiftMass {
+  double left = 0.0;     ///< mass of the layer that left the window
+  double entered = 0.0;  ///< mass of the rest-fluid layer that entered
+};
+
+/// Initial condition: density and velocity of interior cell (x, y, z).
+using InitialField = std::function<CellState(int x, int y, int z)>;
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+
+  virtual const SolverConfig& config() const = 0;
+  int nx() const { return config().nx; }
+  int ny() const { return config().ny; }
+  int nz() const { return config().nz; }
+  std::size_t cell_count() const {
+    return static_cast<std::size_t>(nx()) * static_cast<std::size_t>(ny()) *
+           static_cast<std::size_t>(nz());
+  }
+  std::size_t linear_index(int x, int y, int z) const {
+    return static_cast<std::size_t>(x) +
+           static_cast<std::size_t>(nx()) *
+               (static_cast<std::size_t>(y) + static_cast<std::size_t>(ny()) * static_cast<std::size_t>(z));
+  }
+
+  /// One collide-and-stream step (AA pattern: alternately the even and odd kernel), threads
+  /// from OpenMP (omp_set_num_threads / OMP_NUM_THREADS).
+  virtual void step() = 0;
+  void run(std::int64_t steps) {
+    for (std::int64_t s = 0; s < steps; ++s) step();
+  }
+  virtual std::int64_t step_count() const = 0;
+
+  /// Sets every cell to the equilibrium of the given density and velocity. The stored
+  /// momentum is rho u - F/2 with the force present now, so that velocity() returns u.
+  /// Resets step_count() to 0.
+  virtual void initialise(const InitialField& field) = 0;
+
+  /// Moving window: the window moves one cell along `axis` (0, 1, 2) in direction `sign`
+  /// (+1 or -1), so the fluid content moves by -sign cells relative to the grid. The layer
+  /// that leaves is dropped, the entering layer is fluid at rest at density 1 (the rest
+  /// equilibrium is symmetric, so it is valid at either AA parity). Forces are not shifted.
+  virtual ShiftMass shift(int axis, int sign) = 0;
+
+  /// Total mass sum(rho) over the interior cells (exact to round-off at either parity).
+  virtual double total_mass() const = 0;
+
+  // --- single-cell queries (cheap; safe: periodic axes wrap, others throw std::out_of_range)
+  virtual CellState cell_state(int x, int y, int z) const = 0;
+  double cell_density(int x, int y, int z) const { return cell_state(x, y, z).density; }
+  Eigen::Vector3d cell_velocity(int x, int y, int z) const { return cell_state(x, y, z).velocity; }
+  /// The current post-streaming (pre-collision) populations f_i of a cell, whatever the AA
+  /// parity; `f` must hold Q values (direction order of lbm/lattice.hpp).
+  virtual void cell_populations(int x, int y, int z, std::span<double> f) const = 0;
+  /// Overwrites the populations of a cell. Only at an even step_count() (where each cell
+  /// owns its own slots); throws std::logic_error otherwise.
+  virtual void set_cell_populations(int x, int y, int z, std::span<const double> f) = 0;
+  /// Number of discrete velocities of the instantiated lattice.
+  virtual int velocity_count() const = 0;
+
+  // --- whole fields (linear index x + nx (y + ny z))
+  virtual std::vector<double> density_field() const = 0;
+  /// Pressure p = cs^2 (rho - 1) (lattice units, relative to the reference density 1).
+  std::vector<double> pressure_field() const;
+  virtual VectorField velocity_field() const = 0;
+  /// Vorticity curl(u) by second-order central differences (periodic axes wrap; one-sided
+  /// second-order differences at the faces of non-periodic axes).
+  VectorField vorticity_field() const;
+
+  // --- per-cell force density (lattice units), added to config().body_force in the kernel.
+  // Stored in the storage precision as three SoA arrays over the interior cells with the
+  // linear index above. The kernel reads it for every cell; only cells written through
+  // add_force/set_force since the last clear_forces() are non-zero, and clear_forces()
+  // zeroes just those (a sparse list), so the coupling pays only for the cells near the
+  // body. Not thread-safe: call from one thread.
+  virtual void add_force(int x, int y, int z, const Eigen::Vector3d& force) = 0;
+  virtual void set_force(int x, int y, int z, const Eigen::Vector3d& force) = 0;
+  virtual Eigen::Vector3d force(int x, int y, int z) const = 0;
+  virtual void clear_forces() = 0;
+  /// Number of cells holding a force written since the last clear_forces().
+  virtual std::size_t forced_cell_count() const = 0;
+
+  /// Bytes moved from/to memory per cell update by the kernel: Q populations read and
+  /// written plus the three force components read (storage precision). For the roofline.
+  virtual std::size_t bytes_per_cell_update() const = 0;
+};
+
+/// Builds the solver for `config` (validated first; throws settle::InputError).
+std::unique_ptr<Solver> make_solver(const SolverConfig& config);
+
+}  // namespace settle::lbm
