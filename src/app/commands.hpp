@@ -9,5 +9,6 @@ void add_attitude_command(CLI::App& app);
 void add_shape_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_schema_command(CLI::App& app);
+void add_run_command(CLI::App& app);
 
 }  // namespace settle::app

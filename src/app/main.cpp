@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   settle::app::add_shape_command(app);
   settle::app::add_bench_command(app);
   settle::app::add_schema_command(app);
+  settle::app::add_run_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,170 @@
+#include "body/mesh_shape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+
+#include <fmt/core.h>
+
+#include "body/projected_area.hpp"
+#include "body/stl_io.hpp"
+#include "body/surface_markers.hpp"
+#include "common/error.hpp"
+
+namespace settle::body {
+namespace {
+
+// Labels each triangle with its connected component (shell) through the edge neighbours.
+std::vector<int> shell_labels(const EdgeNeighbours& neighbours, int* shell_count) {
+  std::vector<int> label(neighbours.size(), -1);
+  int shells = 0;
+  for (std::size_t start = 0; start < neighbours.size(); ++start) {
+    if (label[start] >= 0) continue;
+    std::vector<int> stack{static_cast<int>(start)};
+    label[start] = shells;
+    while (!stack.empty()) {
+      const int t = stack.back();
+      stack.pop_back();
+      for (int u : neighbours[t]) {
+        if (label[u] < 0) {
+          label[u] = shells;
+          stack.push_back(u);
+        }
+      }
+    }
+    ++shells;
+  }
+  *shell_count = shells;
+  return label;
+}
+
+std::vector<double> shell_volumes(const TriangleMesh& mesh, const std::vector<int>& label, int shells) {
+  std::vector<double> volume(shells, 0.0);
+  const Eigen::Vector3d reference = mesh.vertices.front();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Eigen::Vector3d a = mesh.vertices[tri[0]] - reference, b = mesh.vertices[tri[1]] - reference;
+    const Eigen::Vector3d c = mesh.vertices[tri[2]] - reference;
+    volume[label[t]] += a.dot(b.cross(c)) / 6.0;
+  }
+  return volume;
+}
+
+double corner_angle(const Eigen::Vector3d& at, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d u = p - at, v = q - at;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+}  // namespace
+
+MeshShape::MeshShape(TriangleMesh mesh, std::string source) : mesh_(std::move(mesh)) {
+  EdgeNeighbours neighbours = check_closed_and_oriented(mesh_, source);
+  const auto [lo, hi] = vertex_bounds(mesh_);
+  const double diagonal = (hi - lo).norm();
+
+  int shells = 0;
+  const std::vector<int> label = shell_labels(neighbours, &shells);
+  const std::vector<double> volumes = shell_volumes(mesh_, label, shells);
+  const double total = std::accumulate(volumes.begin(), volumes.end(), 0.0);
+  if (std::abs(total) <= 1e-10 * diagonal * diagonal * diagonal) {
+    throw InputError(fmt::format("{}: the mesh encloses no volume (volume {:.3g} for a bounding-box diagonal of {:.3g})",
+                                 source, total, diagonal));
+  }
+  const int inward = static_cast<int>(std::count_if(volumes.begin(), volumes.end(), [](double v) { return v < 0.0; }));
+  if (inward > 0 && inward < shells) {
+    throw InputError(fmt::format("{}: the mesh has {} closed shells and {} of them are oriented inward (an inverted "
+                                 "shell or an internal cavity); every shell must enclose its own solid with outward "
+                                 "normals",
+                                 source, shells, inward));
+  }
+  if (inward == shells) {
+    for (auto& tri : mesh_.triangles) std::swap(tri[1], tri[2]);
+    for (auto& n : neighbours) n = {n[2], n[1], n[0]};  // edge k of the reversed triangle is old edge 2-k
+    notes_.push_back(source + ": all faces were oriented inward (negative volume); the orientation was reversed");
+  }
+  if (shells > 1) notes_.push_back(fmt::format("{}: the mesh has {} separate shells, treated as one rigid body", source, shells));
+
+  moments_ = polyhedron_moments(mesh_);
+  for (auto& v : mesh_.vertices) v -= moments_.centroid;  // body frame: origin at the centroid
+  area_ = mesh_surface_area(mesh_);
+  convex_ = body::is_convex(mesh_, neighbours);
+  const auto [body_lo, body_hi] = vertex_bounds(mesh_);
+  box_ = {body_lo, body_hi};
+  for (const auto& v : mesh_.vertices) bounding_radius_ = std::max(bounding_radius_, v.norm());
+  bvh_ = TriangleBvh(mesh_);
+
+  // Pseudonormals: faces' unit normals; an edge's is the sum of its two faces'; a vertex's the
+  // sum of its faces' normals weighted by the face angle at the vertex.
+  const std::size_t count = mesh_.triangles.size();
+  face_normals_.resize(count);
+  for (std::size_t t = 0; t < count; ++t) face_normals_[t] = triangle_vector_area(mesh_, static_cast<int>(t)).normalized();
+  edge_normals_.resize(count);
+  vertex_normals_.assign(mesh_.vertices.size(), Eigen::Vector3d::Zero());
+  for (std::size_t t = 0; t < count; ++t) {
+    const auto& tri = mesh_.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      edge_normals_[t][k] = face_normals_[t] + face_normals_[neighbours[t][k]];
+      const auto& v = mesh_.vertices;
+      vertex_normals_[tri[k]] += corner_angle(v[tri[k]], v[tri[(k + 1) % 3]], v[tri[(k + 2) % 3]]) * face_normals_[t];
+    }
+  }
+}
+
+Eigen::Vector3d MeshShape::feature_normal(const TriangleBvh::Hit& hit) const {
+  switch (hit.feature.kind) {
+    case TriangleFeature::Kind::face:
+      return face_normals_[hit.triangle];
+    case TriangleFeature::Kind::edge:
+      return edge_normals_[hit.triangle][hit.feature.index];
+    case TriangleFeature::Kind::vertex:
+      return vertex_normals_[mesh_.triangles[hit.triangle][hit.feature.index]];
+  }
+  return face_normals_[hit.triangle];
+}
+
+double MeshShape::signed_distance(const Eigen::Vector3d& p) const {
+  const TriangleBvh::Hit hit = bvh_.closest(p);
+  const double distance = std::sqrt(hit.distance_squared);
+  return (p - hit.point).dot(feature_normal(hit)) > 0.0 ? distance : -distance;
+}
+
+Eigen::Vector3d MeshShape::closest_surface_point(const Eigen::Vector3d& p) const { return bvh_.closest(p).point; }
+
+Eigen::Vector3d MeshShape::outward_normal(const Eigen::Vector3d& surface_point) const {
+  return feature_normal(bvh_.closest(surface_point)).normalized();
+}
+
+double MeshShape::support(const Eigen::Vector3d& n) const {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const auto& v : mesh_.vertices) best = std::max(best, n.dot(v));
+  return best;
+}
+
+double MeshShape::projected_area(const Eigen::Vector3d& direction) const {
+  return convex_ ? convex_projected_area(mesh_, direction) : scanline_projected_area(mesh_, direction, 4096);
+}
+
+double MeshShape::mean_projected_area_perpendicular(const Eigen::Vector3d& axis) const {
+  const Eigen::Vector3d unit = axis.normalized();
+  return convex_ ? convex_mean_projected_area_perpendicular(mesh_, unit)
+                 : scanline_mean_projected_area_perpendicular(mesh_, unit, 128, 1024);
+}
+
+SurfaceMarkers MeshShape::surface_markers(double spacing) const {
+  validate_marker_spacing(spacing, surface_area());
+  return cluster_patches_into_markers(patches_from_mesh(mesh_, kPatchEdgeFraction * spacing), spacing,
+                                      [this](const Eigen::Vector3d& p) { return closest_surface_point(p); });
+}
+
+std::unique_ptr<MeshShape> load_mesh_shape(const std::filesystem::path& path, double scale) {
+  if (!std::isfinite(scale) || scale <= 0.0) {
+    throw InputError(fmt::format("{}: the scale factor must be finite and > 0, got {}", path.string(), scale));
+  }
+  TriangleMesh mesh = read_stl(path);
+  for (auto& v : mesh.vertices) v *= scale;
+  return std::make_unique<MeshShape>(std::move(mesh), path.string());
+}
+
+}  // namespace settle::body

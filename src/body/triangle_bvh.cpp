@@ -1,0 +1,153 @@
+#include "body/triangle_bvh.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace settle::body {
+namespace {
+
+constexpr int kLeafSize = 4;
+
+double box_distance_squared(const Eigen::Vector3d& p, const Eigen::Vector3d& lower, const Eigen::Vector3d& upper) {
+  const Eigen::Vector3d below = (lower - p).cwiseMax(0.0);
+  const Eigen::Vector3d above = (p - upper).cwiseMax(0.0);
+  return (below + above).squaredNorm();
+}
+
+}  // namespace
+
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c, TriangleFeature* feature) {
+  using Kind = TriangleFeature::Kind;
+  auto set = [&](Kind kind, int index) {
+    if (feature) *feature = {kind, index};
+  };
+  const Eigen::Vector3d ab = b - a, ac = c - a;
+  const Eigen::Vector3d ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return set(Kind::vertex, 0), a;
+
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return set(Kind::vertex, 1), b;
+
+  const double vc = d1 * d4 - d3 * d2;  // barycentric weight of c, unnormalised
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return set(Kind::edge, 0), Eigen::Vector3d(a + d1 / (d1 - d3) * ab);
+
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return set(Kind::vertex, 2), c;
+
+  const double vb = d5 * d2 - d1 * d6;  // weight of b
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return set(Kind::edge, 2), Eigen::Vector3d(a + d2 / (d2 - d6) * ac);
+
+  const double va = d3 * d6 - d5 * d4;  // weight of a
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    return set(Kind::edge, 1), Eigen::Vector3d(b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b));
+  }
+  const double scale = 1.0 / (va + vb + vc);
+  set(Kind::face, 0);
+  return a + ab * (vb * scale) + ac * (vc * scale);
+}
+
+TriangleBvh::TriangleBvh(const TriangleMesh& mesh) {
+  const int count = static_cast<int>(mesh.triangles.size());
+  std::vector<int> order(count);
+  std::vector<Eigen::Vector3d> centres(count);
+  for (int t = 0; t < count; ++t) {
+    order[t] = t;
+    const auto& tri = mesh.triangles[t];
+    centres[t] = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
+  }
+  nodes_.reserve(2 * static_cast<std::size_t>(count) / kLeafSize + 2);
+  if (count > 0) build(order, centres, 0, count);
+  corners_.resize(count);
+  triangle_ids_ = order;
+  for (int slot = 0; slot < count; ++slot) {
+    const auto& tri = mesh.triangles[order[slot]];
+    corners_[slot] = {mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]};
+  }
+  // Children always follow their parent in nodes_, so one backward pass fills every box.
+  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
+    Node& node = nodes_[i];
+    if (node.count > 0) {
+      node.lower = node.upper = corners_[node.first][0];
+      for (int slot = node.first; slot < node.first + node.count; ++slot) {
+        for (const auto& corner : corners_[slot]) {
+          node.lower = node.lower.cwiseMin(corner);
+          node.upper = node.upper.cwiseMax(corner);
+        }
+      }
+    } else {
+      node.lower = nodes_[i + 1].lower.cwiseMin(nodes_[node.first].lower);
+      node.upper = nodes_[i + 1].upper.cwiseMax(nodes_[node.first].upper);
+    }
+  }
+}
+
+int TriangleBvh::build(std::vector<int>& order, std::vector<Eigen::Vector3d>& centres, int begin, int end) {
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.push_back({});
+  if (end - begin <= kLeafSize) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return index;
+  }
+  Eigen::Vector3d lo = centres[order[begin]], hi = lo;
+  for (int i = begin; i < end; ++i) {
+    lo = lo.cwiseMin(centres[order[i]]);
+    hi = hi.cwiseMax(centres[order[i]]);
+  }
+  Eigen::Index axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  const int middle = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
+                   [&](int x, int y) { return centres[x](axis) < centres[y](axis); });
+  build(order, centres, begin, middle);  // left child: index + 1
+  const int right = build(order, centres, middle, end);
+  nodes_[index].first = right;
+  nodes_[index].count = 0;
+  return index;
+}
+
+TriangleBvh::Hit TriangleBvh::closest(const Eigen::Vector3d& p) const {
+  Hit best;
+  best.distance_squared = std::numeric_limits<double>::infinity();
+  if (nodes_.empty()) return best;
+  struct Entry {
+    int node;
+    double bound;
+  };
+  Entry stack[128];
+  int top = 0;
+  stack[top++] = {0, box_distance_squared(p, nodes_[0].lower, nodes_[0].upper)};
+  while (top > 0) {
+    const Entry entry = stack[--top];
+    if (entry.bound >= best.distance_squared) continue;
+    const Node& node = nodes_[entry.node];
+    if (node.count > 0) {
+      for (int slot = node.first; slot < node.first + node.count; ++slot) {
+        const auto& c = corners_[slot];
+        TriangleFeature feature;
+        const Eigen::Vector3d q = closest_point_on_triangle(p, c[0], c[1], c[2], &feature);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 < best.distance_squared) best = {d2, triangle_ids_[slot], feature, q};
+      }
+      continue;
+    }
+    const int left = entry.node + 1, right = node.first;
+    const double dl = box_distance_squared(p, nodes_[left].lower, nodes_[left].upper);
+    const double dr = box_distance_squared(p, nodes_[right].lower, nodes_[right].upper);
+    // Push the farther child first so the nearer one is searched first and tightens the bound.
+    if (dl < dr) {
+      stack[top++] = {right, dr};
+      stack[top++] = {left, dl};
+    } else {
+      stack[top++] = {left, dl};
+      stack[top++] = {right, dr};
+    }
+  }
+  return best;
+}
+
+}  // namespace settle::body

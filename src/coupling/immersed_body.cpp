@@ -1,0 +1,202 @@
+#include "coupling/immersed_body.hpp"
+
+#include "ibm/volume_fraction.hpp"
+
+#include <cmath>
+
+namespace settle::coupling {
+namespace {
+
+bool periodic(const lbm::Solver& solver, int axis) {
+  return solver.config().boundaries[static_cast<std::size_t>(axis)] == lbm::Boundary::periodic;
+}
+
+int grid_extent(const lbm::Solver& solver, int axis) {
+  return axis == 0 ? solver.nx() : axis == 1 ? solver.ny() : solver.nz();
+}
+
+}  // namespace
+
+BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double retraction_cells) {
+  const body::SurfaceMarkers surface = shape.surface_markers(dx_si);
+  const double radius_cells = 0.5 * shape.equivalent_diameter() / dx_si;
+  const double area_scale = std::pow(std::max(0.0, 1.0 - retraction_cells / radius_cells), 2);
+  BodyMarkers markers;
+  markers.offset_b.reserve(surface.size());
+  markers.volume.reserve(surface.size());
+  for (std::size_t l = 0; l < surface.size(); ++l) {
+    markers.offset_b.push_back(surface.positions[l] / dx_si - retraction_cells * surface.normals[l]);
+    // area in cells^2 times one cell width
+    markers.volume.push_back(surface.areas[l] / (dx_si * dx_si) * area_scale);
+  }
+  return markers;
+}
+
+ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,
+                           const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity_n) {
+  ibm::Markers placed;
+  placed.position.reserve(markers.size());
+  placed.target_velocity.reserve(markers.size());
+  placed.volume = markers.volume;
+  for (const Eigen::Vector3d& offset_b : markers.offset_b) {
+    const Eigen::Vector3d arm = body_to_inertial * offset_b;
+    placed.position.push_back(centre + arm);
+    placed.target_velocity.push_back(velocity + angular_velocity_n.cross(arm));
+  }
+  return placed;
+}
+
+CellBox box_around(const Eigen::Vector3d& centre, double radius, double margin) {
+  CellBox box;
+  for (int a = 0; a < 3; ++a) {
+    const int lo = static_cast<int>(std::floor(centre[a] - radius - margin));
+    const int hi = static_cast<int>(std::ceil(centre[a] + radius + margin));
+    box.origin[static_cast<std::size_t>(a)] = lo;
+    box.extent[static_cast<std::size_t>(a)] = hi - lo + 1;
+  }
+  return box;
+}
+
+bool box_fits(const CellBox& box, const lbm::Solver& solver) {
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    const int n = grid_extent(solver, a);
+    if (periodic(solver, a)) {
+      if (box.extent[i] > n) return false;
+    } else if (box.origin[i] < 0 || box.origin[i] + box.extent[i] > n) {
+      return false;
+    }
+  }
+  return true;
+}
+
+ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box) {
+  ibm::LocalGrid grid(box.origin, box.extent);
+  for (int k = 0; k < box.extent[2]; ++k)
+    for (int j = 0; j < box.extent[1]; ++j)
+      for (int i = 0; i < box.extent[0]; ++i) {
+        const lbm::CellState s = solver.cell_state(box.origin[0] + i, box.origin[1] + j, box.origin[2] + k);
+        const std::size_t c = grid.index(i, j, k);
+        grid.rho[c] = s.density;
+        for (std::size_t a = 0; a < 3; ++a) grid.velocity[a][c] = s.velocity[static_cast<Eigen::Index>(a)];
+      }
+  return grid;
+}
+
+void scatter_forces(lbm::Solver& solver, const ibm::LocalGrid& grid) {
+  const auto& o = grid.origin();
+  const auto& e = grid.extent();
+  for (int k = 0; k < e[2]; ++k)
+    for (int j = 0; j < e[1]; ++j)
+      for (int i = 0; i < e[0]; ++i) {
+        const std::size_t c = grid.index(i, j, k);
+        const Eigen::Vector3d f(grid.force[0][c], grid.force[1][c], grid.force[2][c]);
+        if (f.isZero(0.0)) continue;
+        solver.set_force(o[0] + i, o[1] + j, o[2] + k, f);
+      }
+}
+
+double SolidCells::volume() const {
+  double v = 0.0;
+  for (double a : alpha) v += a;
+  return v;
+}
+
+SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& box, const Eigen::Vector3d& centre,
+                       const Eigen::Matrix3d& body_to_inertial) {
+  const Eigen::Matrix3d inertial_to_body = body_to_inertial.transpose();
+  const std::array<int, 3> n{box.extent[0] + 1, box.extent[1] + 1, box.extent[2] + 1};
+  const auto corner_index = [&](int i, int j, int k) {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) +
+                                                                           static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
+  };
+  const auto corner_point_b = [&](int i, int j, int k) -> Eigen::Vector3d {
+    const Eigen::Vector3d corner(box.origin[0] + i - 0.5, box.origin[1] + j - 0.5, box.origin[2] + k - 0.5);
+    return inertial_to_body * ((corner - centre) * dx_si);
+  };
+  const auto corners_of = [&](int i, int j, int k, auto&& visit) {
+    for (int m = 0; m < 8; ++m) visit(corner_index(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)));
+  };
+
+  // Pass 1: which corners are inside (the cheap exact inside test). Corners farther than the
+  // bounding radius plus two cells from the centre are outside without asking: every cell
+  // touching one lies wholly outside (its diagonal is sqrt(3) < 2 cells).
+  const double cull_radius = shape.bounding_radius() + 2.0 * dx_si;
+  std::vector<unsigned char> inside(corner_index(n[0] - 1, n[1] - 1, n[2] - 1) + 1, 0);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const Eigen::Vector3d p = corner_point_b(i, j, k);
+        inside[corner_index(i, j, k)] = p.norm() <= cull_radius && shape.contains(p) ? 1 : 0;
+      }
+
+  // Pass 2: cells whose corners are all inside are solid (alpha = 1), all outside are fluid;
+  // only cells the surface cuts need the signed distances of their corners, each corner
+  // evaluated once. Serial on purpose: the box is small, and OpenMP regions this short cost more
+  // than they save when the machine is shared.
+  std::vector<double> phi(inside.size(), 0.0);
+  std::vector<unsigned char> needed(inside.size(), 0);
+  std::vector<unsigned char> cell_kind(box.cell_count(), 0);  // 0 fluid, 1 solid, 2 cut
+  for (int k = 0; k < box.extent[2]; ++k)
+    for (int j = 0; j < box.extent[1]; ++j)
+      for (int i = 0; i < box.extent[0]; ++i) {
+        int count = 0;
+        corners_of(i, j, k, [&](std::size_t c) { count += inside[c]; });
+        const std::size_t cell = static_cast<std::size_t>(i) + static_cast<std::size_t>(box.extent[0]) *
+                                 (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.extent[1]) * static_cast<std::size_t>(k));
+        cell_kind[cell] = count == 0 ? 0 : count == 8 ? 1 : 2;
+        if (cell_kind[cell] == 2) corners_of(i, j, k, [&](std::size_t c) { needed[c] = 1; });
+      }
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        if (needed[corner_index(i, j, k)]) phi[corner_index(i, j, k)] = shape.signed_distance(corner_point_b(i, j, k)) / dx_si;
+
+  SolidCells cells;
+  std::size_t cell = 0;
+  for (int k = 0; k < box.extent[2]; ++k)
+    for (int j = 0; j < box.extent[1]; ++j)
+      for (int i = 0; i < box.extent[0]; ++i, ++cell) {
+        double alpha = cell_kind[cell] == 1 ? 1.0 : 0.0;
+        if (cell_kind[cell] == 2) {
+          std::array<double, 8> corner{};
+          std::size_t m = 0;
+          corners_of(i, j, k, [&](std::size_t c) { corner[m++] = phi[c]; });
+          alpha = ibm::cell_volume_fraction(corner);
+        }
+        if (alpha > 0.0) {
+          cells.cell.push_back({box.origin[0] + i, box.origin[1] + j, box.origin[2] + k});
+          cells.alpha.push_back(alpha);
+        }
+      }
+  return cells;
+}
+
+FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre) {
+  FluidMomentum p;
+  for (std::size_t n = 0; n < cells.cell.size(); ++n) {
+    const auto& c = cells.cell[n];
+    const lbm::CellState s = solver.cell_state(c[0], c[1], c[2]);
+    const Eigen::Vector3d momentum = cells.alpha[n] * s.density * s.velocity;
+    p.linear += momentum;
+    p.angular += (Eigen::Vector3d(c[0], c[1], c[2]) - centre).cross(momentum);
+  }
+  return p;
+}
+
+LatticeWrench marker_reaction(const ibm::Markers& markers, const std::vector<Eigen::Vector3d>& marker_force,
+                              const Eigen::Vector3d& centre) {
+  LatticeWrench w;
+  for (std::size_t l = 0; l < markers.size(); ++l) {
+    const Eigen::Vector3d on_fluid = marker_force[l] * markers.volume[l];
+    w.force -= on_fluid;
+    w.torque -= (markers.position[l] - centre).cross(on_fluid);
+  }
+  return w;
+}
+
+LatticeWrench hydrodynamic_wrench(const LatticeWrench& reaction, const FluidMomentum& before, const FluidMomentum& after) {
+  return {reaction.force + (after.linear - before.linear), reaction.torque + (after.angular - before.angular)};
+}
+
+}  // namespace settle::coupling

@@ -1,0 +1,119 @@
+#pragma once
+// The immersed-boundary side of one body, in lattice units (dx = dt = 1, fluid density 1):
+// its surface markers at a pose, the box of cells around it, the transfer of that box to and
+// from the fluid solver, the solid volume fraction of each cell, and the two terms of the
+// hydrodynamic force and torque.
+//
+// Lattice coordinates: cell (i, j, k) of the fluid grid has its centre at the INTEGER point
+// (i, j, k), i.e. X = (x_si - window_origin_si) / dx_si - 1/2 (ibm/forcing.hpp). The body
+// frame is the shape's own (body/shape.hpp), mapped to the inertial frame by C_b^n.
+//
+// Hydrodynamic force and torque (Uhlmann 2005, J. Comput. Phys. 209, 448,
+// doi:10.1016/j.jcp.2005.03.017; Kempe and Froehlich 2012, J. Comput. Phys. 231, 3663,
+// doi:10.1016/j.jcp.2012.01.021, eqs. 16-17 and 29):
+//   F_h = - sum_l f_l dV_l + d/dt sum_cells alpha rho u dV
+//   T_h = - sum_l (X_l - X_c) x f_l dV_l + d/dt sum_cells alpha (x - X_c) x rho u dV
+// where f_l is the force density the marker exerts on the fluid, dV_l its volume and alpha the
+// solid volume fraction of a cell. The second terms are the rate of change of the momentum of
+// the fluid inside the body; they replace the rigid-body approximation (which assumes that
+// fluid moves rigidly with the body and fails below a density ratio of about 1.2).
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "body/shape.hpp"
+#include "ibm/forcing.hpp"
+#include "lbm/solver.hpp"
+
+namespace settle::coupling {
+
+/// Maps SI positions to lattice coordinates of the (possibly moving) window.
+struct LatticeFrame {
+  Eigen::Vector3d window_origin_si = Eigen::Vector3d::Zero();  ///< SI position of the grid's corner
+  double dx_si = 1.0;
+  Eigen::Vector3d to_lattice(const Eigen::Vector3d& x_si) const {
+    return (x_si - window_origin_si) / dx_si - Eigen::Vector3d::Constant(0.5);
+  }
+  Eigen::Vector3d to_si(const Eigen::Vector3d& x) const {
+    return window_origin_si + (x + Eigen::Vector3d::Constant(0.5)) * dx_si;
+  }
+};
+
+/// The body's markers in its own frame, lattice units: offsets from the centroid and volumes
+/// (area times one cell). Built once; placed at every pose by place_markers().
+struct BodyMarkers {
+  std::vector<Eigen::Vector3d> offset_b;
+  std::vector<double> volume;
+  std::size_t size() const { return offset_b.size(); }
+};
+
+/// Markers of nominal spacing one cell from the shape (SI) moved inwards along their normals by
+/// `retraction_cells` (Breugem 2012, J. Comput. Phys. 231, 4469, doi:10.1016/j.jcp.2012.02.026:
+/// r_d = 0.3 dx makes the diffuse interface's effective size match the nominal one). The
+/// marker areas are scaled by (1 - r_d / R_eq)^2 with R_eq the volume-equivalent radius in cells,
+/// so that they tile the retracted surface; exact for a sphere, an approximation of the local
+/// curvature for other shapes.
+BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double retraction_cells);
+
+/// Markers at a pose (lattice units): X_l = X_c + C_b^n p_l, target velocity v + omega_n x (X_l - X_c).
+ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,
+                           const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity_n);
+
+/// The axis-aligned box of cells that holds every cell within `radius` + `margin` of `centre`
+/// (lattice units): first cell and extent per axis.
+struct CellBox {
+  std::array<int, 3> origin{};
+  std::array<int, 3> extent{};
+  std::size_t cell_count() const {
+    return static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1]) *
+           static_cast<std::size_t>(extent[2]);
+  }
+};
+CellBox box_around(const Eigen::Vector3d& centre, double radius, double margin);
+
+/// True when the box can be exchanged with the solver: on a periodic axis its extent is at most
+/// the grid's (no cell twice), on any other axis it lies inside the grid.
+bool box_fits(const CellBox& box, const lbm::Solver& solver);
+
+/// Copies density and velocity (with every force present in the solver, Guo half-step included)
+/// of the box's cells out of the solver; periodic axes wrap.
+ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box);
+/// Writes the box's non-zero force density into the solver (set_force; call clear_forces first).
+void scatter_forces(lbm::Solver& solver, const ibm::LocalGrid& grid);
+
+/// Solid volume fraction of the cells of a box, for the shape at a pose (lattice units), from
+/// the signed distance at the eight corners of each cell (Kempe and Froehlich 2012, eq. 29).
+/// Only the corners of cells the surface cuts get a signed distance; the others need only the
+/// inside test. Cells are listed in box order (deterministic).
+struct SolidCells {
+  std::vector<std::array<int, 3>> cell;  ///< grid cell (unwrapped) of each entry
+  std::vector<double> alpha;             ///< in (0, 1]
+  double volume() const;                 ///< sum of alpha, cells
+};
+SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& box, const Eigen::Vector3d& centre,
+                       const Eigen::Matrix3d& body_to_inertial);
+
+/// Momentum and angular momentum (about `centre`) of the fluid inside the body, lattice units:
+/// sum alpha rho u and sum alpha (x - X_c) x rho u over the solid cells.
+struct FluidMomentum {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+};
+FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre);
+
+/// Force and torque (about `centre`) that the fluid exerts on the markers, lattice units: minus
+/// the sum of the marker forces on the fluid.
+struct LatticeWrench {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+};
+LatticeWrench marker_reaction(const ibm::Markers& markers, const std::vector<Eigen::Vector3d>& marker_force,
+                              const Eigen::Vector3d& centre);
+
+/// The hydrodynamic wrench of the file comment: marker reaction plus the rate of change of the
+/// internal momentum over one step (dt = 1).
+LatticeWrench hydrodynamic_wrench(const LatticeWrench& marker_reaction, const FluidMomentum& before,
+                                  const FluidMomentum& after);
+
+}  // namespace settle::coupling

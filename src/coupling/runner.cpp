@@ -1,0 +1,151 @@
+#include "coupling/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/core.h>
+
+#include "coupling/time_control.hpp"
+
+namespace settle::coupling {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string progress_line(const Simulation& sim, const TimeControl& time, double wall_s) {
+  const double fraction = static_cast<double>(time.step()) / static_cast<double>(std::max<std::int64_t>(1, time.total_steps()));
+  const double eta = fraction > 0.0 ? wall_s * (1.0 - fraction) / fraction : 0.0;
+  const double mlups = static_cast<double>(sim.fluid().cell_count()) * static_cast<double>(time.step()) / wall_s / 1e6;
+  return fmt::format("t = {:.4g} s ({:.1f}%), |u| = {:.4g} m/s, ETA {:.0f} s, {:.1f} MLUPS", time.time_si(),
+                     100.0 * fraction, sim.body().state().velocity_si.norm(), eta, mlups);
+}
+
+}  // namespace
+
+Sample take_sample(const Simulation& sim, double t_si) {
+  const auto& state = sim.body().state();
+  Sample s;
+  s.t_si = t_si;
+  s.position_si = state.position_si;
+  s.velocity_si = state.velocity_si;
+  s.angular_velocity_b_si = state.angular_velocity_b_si;
+  s.angular_velocity_n_si = sim.body().angular_velocity_n_si();
+  s.attitude = state.attitude;
+  s.hydrodynamic = sim.steps() > 0 ? sim.last_step().hydrodynamic : body::Wrench{};
+  s.slip_max_si = sim.last_step().slip_max_si;
+  s.slip_rms_si = sim.last_step().slip_rms_si;
+  // The far field: the driven flow around a fixed body; fluid at rest around a moving one.
+  s.relative_flow_si = sim.body().motion_kind() == body::MotionKind::fixed ? sim.superficial_velocity_si()
+                                                                          : Eigen::Vector3d(-state.velocity_si);
+  s.reynolds = s.relative_flow_si.norm() * sim.derived().equivalent_diameter_si / sim.units().kinematic_viscosity_si();
+  return s;
+}
+
+RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_interval_wall_s) {
+  TimeControl time(sim.units().dt_si(), sim.setup().end_time_si);
+  OutputSchedule output(sim.setup().output_interval_si);
+  RunResult result;
+  const auto start = Clock::now();
+  double next_progress_s = progress_interval_wall_s;
+
+  const auto sample_if_due = [&] {
+    if (!output.due(time.time_si(), time.dt_si())) return;
+    result.samples.push_back(take_sample(sim, time.time_si()));
+    if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
+  };
+
+  sample_if_due();
+  result.stop_reason = "end_time";
+  while (!time.finished()) {
+    if (!sim.can_step()) {
+      result.stop_reason = "reached_boundary";
+      time.stop();
+      break;
+    }
+    sim.step();
+    time.advance();
+    sample_if_due();
+    const double wall = seconds_since(start);
+    if (callbacks.on_progress && wall >= next_progress_s) {
+      callbacks.on_progress(progress_line(sim, time, wall));
+      next_progress_s = wall + progress_interval_wall_s;
+    }
+  }
+  // The final state is always sampled, so that the last row is the end of the run.
+  if (result.samples.empty() || result.samples.back().t_si < time.time_si()) {
+    result.samples.push_back(take_sample(sim, time.time_si()));
+    if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
+  }
+  result.steps = time.step();
+  result.simulated_time_si = time.time_si();
+  result.wall_seconds = seconds_since(start);
+  result.mlups = result.wall_seconds > 0.0 ? static_cast<double>(sim.fluid().cell_count()) *
+                                                 static_cast<double>(result.steps) / result.wall_seconds / 1e6
+                                           : 0.0;
+  return result;
+}
+
+RunSummary summarise(const Simulation& sim, const RunResult& result) {
+  RunSummary summary;
+  summary.galileo = sim.derived().galileo;
+  const double d = sim.derived().equivalent_diameter_si;
+  const double rho = sim.setup().fluid_density_si;
+  const double nu = sim.units().kinematic_viscosity_si();
+  const double area = std::numbers::pi * d * d / 4.0;
+  if (result.samples.empty()) return summary;
+
+  // Averaging window: the second half of the simulated time (the first sample, t = 0, never).
+  const double t_start = 0.5 * result.simulated_time_si;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (const Sample& s : result.samples) {
+    if (s.t_si < t_start || s.t_si <= 0.0) continue;
+    velocity += s.velocity_si;
+    summary.mean_force_si += s.hydrodynamic.force_si;
+    summary.mean_torque_si += s.hydrodynamic.torque_si;
+    summary.mean_relative_flow_si += s.relative_flow_si;
+    ++count;
+  }
+  if (count == 0) {
+    const Sample& s = result.samples.back();
+    velocity = s.velocity_si;
+    summary.mean_force_si = s.hydrodynamic.force_si;
+    summary.mean_torque_si = s.hydrodynamic.torque_si;
+    summary.mean_relative_flow_si = s.relative_flow_si;
+    count = 1;
+  } else {
+    const double n = static_cast<double>(count);
+    velocity /= n;
+    summary.mean_force_si /= n;
+    summary.mean_torque_si /= n;
+    summary.mean_relative_flow_si /= n;
+  }
+  summary.averaged_samples = count;
+
+  const Eigen::Vector3d gravity = sim.setup().gravity_si;
+  const Eigen::Vector3d down = gravity.norm() > 0.0 ? Eigen::Vector3d(gravity.normalized()) : Eigen::Vector3d::Zero();
+  const double speed = summary.mean_relative_flow_si.norm();
+  summary.terminal_velocity_si = velocity.norm();
+  summary.terminal_vertical_velocity_si = velocity.dot(down);
+  summary.reynolds = speed * d / nu;
+  const double dynamic_pressure_area = 0.5 * rho * speed * speed * area;
+  if (dynamic_pressure_area <= 0.0) return summary;
+
+  if (sim.body().motion_kind() == body::MotionKind::free) {
+    // At the terminal state the drag balances the net weight.
+    summary.drag_coefficient = sim.body().net_weight_si().norm() / dynamic_pressure_area;
+    return summary;
+  }
+  const Eigen::Vector3d flow = summary.mean_relative_flow_si / speed;
+  const double drag = summary.mean_force_si.dot(flow);
+  summary.has_coefficients = true;
+  summary.drag_coefficient = drag / dynamic_pressure_area;
+  summary.lift_coefficient = (summary.mean_force_si - drag * flow).norm() / dynamic_pressure_area;
+  summary.torque_coefficient = summary.mean_torque_si.norm() / (dynamic_pressure_area * 0.5 * d);
+  return summary;
+}
+
+}  // namespace settle::coupling

@@ -1,0 +1,159 @@
+#pragma once
+// The coupled simulation of one rigid particle in a lattice Boltzmann fluid, and its ONE time
+// step (DESIGN.md section 1). The step's sub-steps, in order, each timed under its name:
+//
+//  1. body_predictor     pose at t + dt from the current velocities (RigidBody::predict_pose)
+//  2. markers            surface markers at that pose, with the body's current velocity there
+//  3. forcing            clear the previous step's force; gather the box of cells around the
+//                        body; multi-direct forcing (Luo et al. 2007; Breugem 2012); scatter
+//     fluid              collide (Guo forcing, second order) and stream
+//  4. hydrodynamic_force minus the marker forces plus the rate of change of the fluid momentum
+//                        inside the body (Kempe and Froehlich 2012), at the predicted pose
+//  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct)
+//  6. moving_window      shift the fluid one cell when the body is a cell off the window centre
+//
+// Coupling choices written down here: the markers move with the velocities of the step's start
+// (explicit in the body velocity, as Uhlmann 2005 and Breugem 2012); the wrench measured at the
+// predicted pose is held constant over the step by the corrector. Lattice Boltzmann has no
+// gravity in the fluid: hydrostatic pressure is absent, so buoyancy enters the body explicitly
+// (RigidBody's net weight), and a body force on the fluid stands for a mean pressure gradient.
+// Output (step 7) is the runner's business (coupling/runner.hpp), on its own schedule.
+#include <array>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "body/rigid_body.hpp"
+#include "body/shape.hpp"
+#include "coupling/immersed_body.hpp"
+#include "coupling/units.hpp"
+#include "ibm/delta.hpp"
+#include "lbm/config.hpp"
+#include "lbm/solver.hpp"
+
+namespace settle::coupling {
+
+/// Everything a run needs, in SI (built from a case by io/case.hpp).
+struct SimulationSetup {
+  std::string name = "case";
+  std::shared_ptr<const body::Shape> shape;
+  double particle_density_si = 1050.0;
+  body::MotionKind motion = body::MotionKind::free;
+  /// Initial state. For a towed body, velocity_si and angular_velocity_b_si are the prescribed
+  /// constant motion.
+  body::RigidBodyState initial;
+
+  double fluid_density_si = 998.2;
+  double dynamic_viscosity_si = 1.0e-3;
+  Eigen::Vector3d gravity_si{0.0, 0.0, -9.81};
+  Eigen::Vector3d body_force_si = Eigen::Vector3d::Zero();  ///< N/m^3 on the fluid
+
+  Eigen::Vector3d domain_size_si = Eigen::Vector3d::Constant(0.01);
+  std::array<lbm::Boundary, 3> boundaries{lbm::Boundary::no_slip, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
+  bool follow_particle = false;
+
+  double cells_per_diameter = 16.0;
+  lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
+  lbm::CollisionKind collision = lbm::CollisionKind::trt;
+  lbm::Precision precision = lbm::Precision::float64;
+  ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
+  int forcing_iterations = 3;
+  double marker_retraction_cells = 0.4;  ///< cells; calibration in docs/coupling.md
+  double max_lattice_velocity = 0.05;
+  double max_tau = 2.0;
+  std::optional<double> tau;
+
+  double end_time_si = 1.0;
+  double output_interval_si = 0.005;
+};
+
+/// The numbers the converter chose and the dimensionless groups of the case (logged at start and
+/// written to case.resolved.toml and summary.json).
+struct DerivedQuantities {
+  double dx_si = 0.0, dt_si = 0.0, tau = 0.0;
+  double expected_speed_si = 0.0;  ///< the speed dt was chosen for
+  double mach = 0.0;               ///< of the expected speed
+  double reynolds = 0.0;           ///< expected speed x d_eq / nu
+  double galileo = 0.0;
+  double equivalent_diameter_si = 0.0;
+  std::array<int, 3> cells{};
+  std::size_t marker_count = 0;
+};
+
+/// The speed the time step must resolve (see the file comment of units.hpp): towing speed plus
+/// rotation, the estimated driven speed for a fixed body with a body force, or the
+/// Schiller-Naumann terminal speed of the volume-equivalent sphere for a free body.
+double expected_speed_si(const SimulationSetup& setup);
+
+/// Wall-clock seconds spent in each named sub-step, in step order.
+class SubstepTimers {
+ public:
+  void add(const char* name, double seconds);
+  const std::vector<std::pair<std::string, double>>& entries() const { return entries_; }
+  double total() const;
+
+ private:
+  std::vector<std::pair<std::string, double>> entries_;
+};
+
+/// What one step measured, in SI (inertial frame; torque about the centre of mass).
+struct StepObservation {
+  body::Wrench hydrodynamic;   ///< the sum of the two parts below
+  body::Wrench marker_reaction;  ///< minus the sum of the marker forces (and their moments)
+  body::Wrench internal_rate;    ///< rate of change of the momentum of the fluid inside the body
+  double slip_max_si = 0.0;  ///< largest |U - U_body| at the markers after forcing, m/s
+  double slip_rms_si = 0.0;
+};
+
+class Simulation {
+ public:
+  /// Converts units and checks the case before allocating anything (settle::InputError naming
+  /// the key to change); then builds the fluid, the body and its markers.
+  explicit Simulation(SimulationSetup setup);
+
+  /// One coupled time step (file comment).
+  void step();
+  /// False when the next step's forcing stencil would leave the grid (body at a wall).
+  bool can_step() const;
+
+  const SimulationSetup& setup() const { return setup_; }
+  const DerivedQuantities& derived() const { return derived_; }
+  const UnitConverter& units() const { return units_; }
+  const body::RigidBody& body() const { return *body_; }
+  const lbm::Solver& fluid() const { return *fluid_; }
+  lbm::Solver& fluid() { return *fluid_; }
+  const SubstepTimers& timers() const { return timers_; }
+  const StepObservation& last_step() const { return last_; }
+  const LatticeFrame& frame() const { return frame_; }
+  std::int64_t steps() const { return steps_; }
+
+  /// Mean fluid velocity over the whole domain with the solid counted as zero (the superficial
+  /// velocity of Zick and Homsy 1982), m/s. Sweeps the whole grid: for outputs, not every step.
+  Eigen::Vector3d superficial_velocity_si() const;
+  /// The solid cells of the body at its current pose (lattice units).
+  SolidCells current_solid_cells() const;
+
+ private:
+  CellBox box_at(const Eigen::Vector3d& centre) const;
+  void follow_body();
+
+  SimulationSetup setup_;
+  UnitConverter units_;
+  DerivedQuantities derived_;
+  LatticeFrame frame_;
+  std::unique_ptr<lbm::Solver> fluid_;
+  std::unique_ptr<body::RigidBody> body_;
+  BodyMarkers markers_;
+  double box_radius_cells_ = 0.0;
+  FluidMomentum internal_before_;
+  SubstepTimers timers_;
+  StepObservation last_;
+  std::int64_t steps_ = 0;
+};
+
+}  // namespace settle::coupling

@@ -1,0 +1,174 @@
+#include "io/case.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include <fmt/core.h>
+
+#include "body/shape_factory.hpp"
+#include "common/error.hpp"
+#include "io/case_schema.hpp"
+#include "lbm/config.hpp"
+
+namespace settle::io {
+namespace {
+
+// Water at 20 C, a prolate spheroid (aspect ratio 2, d_eq = 1.26 mm, density ratio 1.1,
+// Galileo number about 45) released tilted by 0.5 rad; 8 cells per equivalent diameter in a
+// 6 x 6 x 12 d_eq window that follows it. About 2.7e8 cell updates.
+constexpr std::string_view kDefaultCase = R"toml(# settle's built-in default case (settle run without a case file)
+[fluid]
+density = 998.2
+dynamic_viscosity = 1.0e-3
+gravity = [0.0, 0.0, -9.81]
+
+[particle]
+shape = "spheroid"
+diameter = 1.0e-3
+aspect_ratio = 2.0
+density = 1100.0
+motion = "free"
+position = [3.78e-3, 3.78e-3, 7.56e-3]
+euler = [0.0, 0.5, 0.0]
+
+[domain]
+size = [7.56e-3, 7.56e-3, 15.12e-3]
+walls = { x = "no-slip", y = "no-slip", z = "no-slip" }
+follow_particle = true
+
+[numerics]
+cells_per_diameter = 8
+
+[run]
+end_time = 0.6
+output_interval = 0.005
+)toml";
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open the case file", path.string()));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+Eigen::Vector3d vector3(const CaseValues& v, std::string_view key) {
+  const auto& x = v.reals(key);
+  return {x[0], x[1], x[2]};
+}
+
+template <std::size_t N>
+std::array<double, N> array_of(const CaseValues& v, std::string_view key) {
+  std::array<double, N> a{};
+  const auto& x = v.reals(key);
+  for (std::size_t i = 0; i < N; ++i) a[i] = x[i];
+  return a;
+}
+
+body::ShapeSpec shape_spec(const CaseValues& v) {
+  body::ShapeSpec spec;
+  spec.shape = v.string("particle.shape");
+  if (v.has("particle.diameter")) spec.diameter = v.real("particle.diameter");
+  if (v.has("particle.aspect_ratio")) spec.aspect_ratio = v.real("particle.aspect_ratio");
+  if (v.has("particle.semi_axes")) spec.semi_axes = array_of<3>(v, "particle.semi_axes");
+  if (v.has("particle.exponents")) spec.exponents = array_of<2>(v, "particle.exponents");
+  if (v.has("particle.length")) spec.length = v.real("particle.length");
+  if (v.has("particle.size")) spec.size = array_of<3>(v, "particle.size");
+  if (v.has("particle.file")) spec.file = v.string("particle.file");
+  // scale has a default; pass it only when the user wrote it, so that the factory's check for
+  // keys the shape does not use only sees what the case says.
+  if (v.given("particle.scale")) spec.scale = v.real("particle.scale");
+  return spec;
+}
+
+body::MotionKind motion_kind(const std::string& name) {
+  if (name == "towed") return body::MotionKind::towed;
+  if (name == "fixed") return body::MotionKind::fixed;
+  return body::MotionKind::free;
+}
+
+lbm::Boundary wall(const CaseValues& v, std::string_view key) {
+  const std::string& name = v.string(key);
+  if (name == "periodic") return lbm::Boundary::periodic;
+  if (name == "free-slip") return lbm::Boundary::free_slip;
+  return lbm::Boundary::no_slip;
+}
+
+}  // namespace
+
+std::string_view default_case_toml() { return kDefaultCase; }
+
+CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+  CaseValues values = path.empty() ? parse_case(case_schema(), kDefaultCase, "built-in default case")
+                                   : parse_case(case_schema(), read_file(path), path.string());
+  for (const std::string& assignment : overrides) apply_override(values, assignment);
+  return values;
+}
+
+coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::filesystem::path& base_directory,
+                                           std::string name) {
+  coupling::SimulationSetup s;
+  s.name = std::move(name);
+  body::ShapeFactoryOptions shape_options;
+  shape_options.base_directory = base_directory;
+  s.shape = std::shared_ptr<const body::Shape>(body::make_shape(shape_spec(v), shape_options));
+  s.particle_density_si = v.real("particle.density");
+  s.motion = motion_kind(v.string("particle.motion"));
+
+  s.fluid_density_si = v.real("fluid.density");
+  s.dynamic_viscosity_si = v.real("fluid.dynamic_viscosity");
+  s.gravity_si = vector3(v, "fluid.gravity");
+  s.body_force_si = vector3(v, "fluid.body_force");
+
+  if (!v.has("domain.size")) throw InputError("domain.size: required (extent of the domain in m, e.g. [0.04, 0.04, 0.12])");
+  s.domain_size_si = vector3(v, "domain.size");
+  s.boundaries = {wall(v, "domain.walls.x"), wall(v, "domain.walls.y"), wall(v, "domain.walls.z")};
+  s.follow_particle = v.boolean("domain.follow_particle");
+
+  s.initial.position_si = v.has("particle.position") ? vector3(v, "particle.position") : Eigen::Vector3d(0.5 * s.domain_size_si);
+  const Eigen::Vector3d euler = vector3(v, "particle.euler");
+  s.initial.attitude = attitude::Attitude::from_matrix(
+      attitude::Attitude::from_set1(euler[0], euler[1], euler[2]).body_to_inertial());
+  s.initial.velocity_si = vector3(v, "particle.velocity");
+  s.initial.angular_velocity_b_si = vector3(v, "particle.angular_velocity");
+  if (s.motion == body::MotionKind::towed) {
+    if (!v.has("particle.towing_velocity"))
+      throw InputError("particle.towing_velocity: required when particle.motion = \"towed\" (m/s, e.g. [0, 0, -0.05])");
+    s.initial.velocity_si = vector3(v, "particle.towing_velocity");
+  } else if (v.has("particle.towing_velocity")) {
+    throw InputError("particle.towing_velocity: only for particle.motion = \"towed\"; remove it or set motion = \"towed\"");
+  }
+  if (s.motion == body::MotionKind::fixed) {
+    s.initial.velocity_si.setZero();
+    s.initial.angular_velocity_b_si.setZero();
+  }
+
+  s.cells_per_diameter = v.real("numerics.cells_per_diameter");
+  s.lattice = lbm::parse_lattice(v.string("numerics.lattice"), "numerics.lattice");
+  s.collision = lbm::parse_collision(v.string("numerics.collision"), "numerics.collision");
+  s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
+  s.kernel = ibm::delta_kernel_from_string(v.string("numerics.delta_kernel"), "numerics.delta_kernel");
+  s.forcing_iterations = static_cast<int>(v.integer("numerics.forcing_iterations"));
+  s.marker_retraction_cells = v.real("numerics.marker_retraction");
+  s.max_lattice_velocity = v.real("numerics.max_lattice_velocity");
+  s.max_tau = v.real("numerics.max_tau");
+  if (v.has("numerics.tau")) s.tau = v.real("numerics.tau");
+
+  s.end_time_si = v.real("run.end_time");
+  s.output_interval_si = v.real("run.output_interval");
+  return s;
+}
+
+std::vector<std::string> unsupported_key_warnings(const CaseValues& v) {
+  std::vector<std::string> warnings;
+  if (v.real("run.vtk_interval") > 0.0)
+    warnings.emplace_back("run.vtk_interval: VTK output is not implemented in this version; no VTK files are written");
+  if (v.real("run.checkpoint_interval") > 0.0)
+    warnings.emplace_back("run.checkpoint_interval: checkpoints are not implemented in this version; none are written");
+  if (v.boolean("run.stop_at_terminal"))
+    warnings.emplace_back("run.stop_at_terminal: terminal-state detection comes with the analysis module; the run "
+                          "continues to run.end_time");
+  return warnings;
+}
+
+}  // namespace settle::io

@@ -1,0 +1,32 @@
+#pragma once
+// From a checked case (io/schema.hpp, keys of case_schema.cpp) to the coupled simulation's
+// SI set-up, and the built-in default case of `settle run`.
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "coupling/simulation.hpp"
+#include "io/schema.hpp"
+
+namespace settle::io {
+
+/// TOML text of the built-in default case: a small free-settling, tilted prolate spheroid in
+/// water that runs in about a minute on two cores.
+std::string_view default_case_toml();
+
+/// Reads a case file (or the default case when `path` is empty) and applies the --set
+/// overrides in order. settle::InputError names the file or --set and the key on any problem.
+CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides);
+
+/// The simulation set-up of a checked case. Relative mesh paths are taken relative to
+/// `base_directory` (the case file's folder). Keys that depend on each other are checked here
+/// (settle::InputError naming the key): towing_velocity for towed bodies, domain.size.
+coupling::SimulationSetup simulation_setup(const CaseValues& values, const std::filesystem::path& base_directory,
+                                           std::string name);
+
+/// Keys that are accepted but not acted on by this version (e.g. VTK output), as messages for
+/// the user.
+std::vector<std::string> unsupported_key_warnings(const CaseValues& values);
+
+}  // namespace settle::io

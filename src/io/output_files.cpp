@@ -1,0 +1,61 @@
+#include "io/output_files.hpp"
+
+#include <fmt/core.h>
+
+#include "attitude/euler.hpp"
+#include "common/error.hpp"
+
+namespace settle::io {
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
+  std::filesystem::path temporary = path;
+  temporary += ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(fmt::format("{}: cannot write", temporary.string()));
+    out << text;
+    if (!out.flush()) throw InputError(fmt::format("{}: write failed", temporary.string()));
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+const std::vector<std::string>& timeseries_columns() {
+  static const std::vector<std::string> columns{
+      "t",     "x",     "y",       "z",       "ux",      "uy",        "uz", "wx", "wy", "wz",
+      "wbx",   "wby",   "wbz",     "psi",     "theta",   "gamma",     "psi_r", "theta_r", "gamma_r",
+      "euler_set", "Fx", "Fy",     "Fz",      "Tx",      "Ty",        "Tz", "Re", "slip_max", "slip_rms"};
+  return columns;
+}
+
+TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path) : out_(path, std::ios::trunc), path_(path) {
+  if (!out_) throw InputError(fmt::format("{}: cannot write", path.string()));
+  const auto& columns = timeseries_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
+  out_ << '\n';
+}
+
+void TimeseriesWriter::write(const coupling::Sample& s) {
+  const Eigen::Vector3d set1 = s.attitude.set1_angles();
+  const Eigen::Vector3d set2 = s.attitude.set2_angles();
+  const int euler_set = s.attitude.set() == attitude::EulerSet::set1 ? 1 : 2;
+  std::string row = fmt::format("{:.17g}", s.t_si);
+  const auto add = [&](const Eigen::Vector3d& v) {
+    for (int a = 0; a < 3; ++a) row += fmt::format(",{:.17g}", v[a]);
+  };
+  add(s.position_si);
+  add(s.velocity_si);
+  add(s.angular_velocity_n_si);
+  add(s.angular_velocity_b_si);
+  add(set1);
+  // set2_angles() returns (psi_r, theta_r, gamma_r), the column order
+  add(set2);
+  row += fmt::format(",{}", euler_set);
+  add(s.hydrodynamic.force_si);
+  add(s.hydrodynamic.torque_si);
+  row += fmt::format(",{:.17g},{:.17g},{:.17g}\n", s.reynolds, s.slip_max_si, s.slip_rms_si);
+  out_ << row;
+  out_.flush();
+  if (!out_) throw InputError(fmt::format("{}: write failed", path_.string()));
+}
+
+}  // namespace settle::io

@@ -1,0 +1,115 @@
+#pragma once
+// Shared set-up of the periodic-sphere-array drag check (test_periodic_sphere.cpp, CI-sized,
+// and validation_periodic_sphere.cpp): a fixed sphere in a periodic cubic box, Stokes flow
+// driven by a uniform body force on the fluid, compared with Sangani and Acrivos 1982
+// (Int. J. Multiphase Flow 8, 343, doi:10.1016/0301-9322(82)90047-7), eq. 60 and Table 1 for the
+// simple cubic array, and with Zick and Homsy 1982 (J. Fluid Mech. 115, 13,
+// doi:10.1017/S0022112082000627), as stored in /work/shared/validation/reference-data.json.
+//
+// Units: the SI case is written in lattice-like units (d = cells_per_diameter metres, rho = 1,
+// nu = 1/6 m^2/s with tau = 1), so dx = dt = 1 and the numbers read directly in lattice units.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numbers>
+
+#include "body/shape_factory.hpp"
+#include "coupling/simulation.hpp"
+
+namespace settle::coupling::testing {
+
+/// Sangani and Acrivos 1982 series for the simple cubic array, K = sum_s q_s chi^s with
+/// chi = d / L (reference-data.json, periodic_sphere_array_SC.SanganiAcrivos1982_SC_series).
+inline double sangani_acrivos_k(double chi) {
+  static constexpr std::array<double, 31> q{
+      1.0,       1.418649,  2.012564,  2.331523,   2.564809,  2.584787,  2.873609,  3.340163,
+      3.536763,  3.504092,  3.253622,  2.689757,   2.037769,  1.809341,  1.877347,  1.534685,
+      0.9034708, 0.2857896, -0.5512626, -1.278724, 1.01335,   5.492491,  4.615388,  -0.5736023,
+      -2.865924, -4.709215, -6.870076, 0.1455304,  12.51891,  9.742811,  -5.566269};
+  double k = 0.0, power = 1.0;
+  for (double qs : q) {
+    k += qs * power;
+    power *= chi;
+  }
+  return k;
+}
+
+struct PeriodicSphereResult {
+  double k = 0.0;            ///< F / (6 pi mu a U), U the superficial velocity
+  double k_reference = 0.0;  ///< Sangani-Acrivos at chi = d / L
+  double solid_fraction = 0.0;
+  double reynolds = 0.0;     ///< U d / nu
+  double last_relative_change = 0.0;  ///< of K over the last check interval (steady state)
+  std::int64_t steps = 0;
+  double slip_max = 0.0;     ///< largest marker slip after forcing / U
+};
+
+struct PeriodicSphereOptions {
+  double cells_per_diameter = 16.0;
+  int box_cells = 32;
+  double tau = 1.0;
+  double retraction = SimulationSetup{}.marker_retraction_cells;  ///< the default of settle run
+  int forcing_iterations = 3;
+  ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
+  std::int64_t max_steps = 20000;
+  double steady_tolerance = 1e-6;  ///< relative change of K per check interval to stop
+};
+
+inline PeriodicSphereResult run_periodic_sphere(const PeriodicSphereOptions& o) {
+  const double d = o.cells_per_diameter;  // metres = cells (dx = 1)
+  const double nu = (o.tau - 0.5) / 3.0;
+  SimulationSetup s;
+  body::ShapeSpec spec;
+  spec.shape = "sphere";
+  spec.diameter = d;
+  s.shape = std::shared_ptr<const body::Shape>(body::make_shape(spec));
+  s.motion = body::MotionKind::fixed;
+  s.particle_density_si = 2.0;
+  s.fluid_density_si = 1.0;
+  s.dynamic_viscosity_si = nu;
+  s.gravity_si = Eigen::Vector3d::Zero();
+  const double box = o.box_cells;
+  s.domain_size_si = Eigen::Vector3d::Constant(box);
+  s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic};
+  s.initial.position_si = Eigen::Vector3d::Constant(0.5 * box);
+  s.cells_per_diameter = o.cells_per_diameter;
+  s.tau = o.tau;
+  s.marker_retraction_cells = o.retraction;
+  s.forcing_iterations = o.forcing_iterations;
+  s.kernel = o.kernel;
+  // Creeping flow: a force density giving U ~ 1e-4 (Re ~ 1e-2) with the Stokes drag of the
+  // isolated sphere; the hindrance of the array only lowers U further.
+  const double target_u = 1e-4;
+  s.body_force_si = Eigen::Vector3d(3.0 * std::numbers::pi * nu * d * target_u / (box * box * box), 0.0, 0.0);
+  s.end_time_si = 1.0;
+
+  Simulation sim(s);
+  const double a = 0.5 * d;
+  const auto measure_k = [&] {
+    const double u = sim.superficial_velocity_si().x();
+    return sim.last_step().hydrodynamic.force_si.x() / (6.0 * std::numbers::pi * nu * a * u);
+  };
+  PeriodicSphereResult r;
+  // The slowest decaying Stokes mode of the box relaxes as exp(-4 pi^2 nu t / L^2): check every
+  // tenth of that time.
+  const auto interval = static_cast<std::int64_t>(std::max(20.0, 0.1 * box * box / (4.0 * std::numbers::pi * std::numbers::pi * nu)));
+  double k_previous = 0.0;
+  while (sim.steps() < o.max_steps) {
+    for (std::int64_t i = 0; i < interval; ++i) sim.step();
+    const double k = measure_k();
+    r.last_relative_change = std::abs(k - k_previous) / std::abs(k);
+    k_previous = k;
+    if (r.last_relative_change < o.steady_tolerance) break;
+  }
+  const double u = sim.superficial_velocity_si().x();
+  r.k = k_previous;
+  r.steps = sim.steps();
+  r.solid_fraction = std::numbers::pi / 6.0 * std::pow(d / box, 3);
+  r.k_reference = sangani_acrivos_k(d / box);
+  r.reynolds = u * d / nu;
+  r.slip_max = sim.last_step().slip_max_si / u;
+  return r;
+}
+
+}  // namespace settle::coupling::testing
