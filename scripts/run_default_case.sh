@@ -2,7 +2,8 @@
 # The main-job command of the README: installs what is missing (Debian packages), builds settle
 # tuned for this CPU (the `native` preset) and runs the built-in default case into runs/default/:
 # a prolate spheroid (aspect ratio 2, density ratio 1.1) released tilted in water, which turns
-# while it settles (print it with `settle run --help`; the case is in src/io/case.cpp).
+# while it settles (the case text is in src/io/case.cpp; runs/default/case.resolved.toml shows
+# every value used).
 # Extra arguments go to `settle run`, e.g. --threads 2 or --set run.end_time=0.2.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
