@@ -4,7 +4,7 @@
 // driven by a uniform body force on the fluid, compared with Sangani and Acrivos 1982
 // (Int. J. Multiphase Flow 8, 343, doi:10.1016/0301-9322(82)90047-7), eq. 60 and Table 1 for the
 // simple cubic array, and with Zick and Homsy 1982 (J. Fluid Mech. 115, 13,
-// doi:10.1017/S0022112082000627), as stored in /work/shared/validation/reference-data.json.
+// doi:10.1017/S0022112082000627), as stored in the project's shared validation/reference-data.json.
 //
 // Units: the SI case is written in lattice-like units (d = cells_per_diameter metres, rho = 1,
 // nu = 1/6 m^2/s with tau = 1), so dx = dt = 1 and the numbers read directly in lattice units.
