@@ -15,6 +15,8 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "cli_support.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -23,35 +25,11 @@ const std::vector<std::string> expected_columns{
     "t",     "wx",      "wy",      "wz",  "psi", "theta", "gamma", "psi_r", "theta_r", "gamma_r", "euler_set",
     "R11",   "R12",     "R13",     "R21", "R22", "R23",   "R31",   "R32",   "R33",     "energy",  "angular_momentum"};
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
+using settle::test::read_text;
+using settle::test::scratch;
+using Result = settle::test::CliResult;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-fs::path scratch(const std::string& name) {
-  return fs::temp_directory_path() / ("settle_attitude_cli_" + std::to_string(::getpid()) + "_" + name);
-}
-
-Result run_settle(const std::string& arguments) {
-  const char* binary = std::getenv("SETTLE_BINARY");
-  if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
-  const fs::path out = scratch("stdout"), err = scratch("stderr");
-  const std::string command =
-      std::string(binary) + " attitude " + arguments + " > " + out.string() + " 2> " + err.string();
-  const int raw = std::system(command.c_str());
-  Result result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_text(out), read_text(err)};
-  fs::remove(out);
-  fs::remove(err);
-  return result;
-}
+Result run_settle(const std::string& arguments) { return settle::test::run_settle("attitude", arguments); }
 
 struct Table {
   std::vector<std::string> header;

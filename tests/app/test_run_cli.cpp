@@ -15,36 +15,17 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_support.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string err;
-};
+using settle::test::read_text;
+using settle::test::scratch;
+using Result = settle::test::CliResult;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-fs::path scratch(const std::string& name) {
-  return fs::temp_directory_path() / ("settle_run_cli_" + std::to_string(::getpid()) + "_" + name);
-}
-
-Result run_settle(const std::string& arguments) {
-  const char* binary = std::getenv("SETTLE_BINARY");
-  if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
-  const fs::path err = scratch("stderr");
-  const std::string command = std::string(binary) + " run " + arguments + " > /dev/null 2> " + err.string();
-  const int raw = std::system(command.c_str());
-  Result result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_text(err)};
-  fs::remove(err);
-  return result;
-}
+Result run_settle(const std::string& arguments) { return settle::test::run_settle("run", arguments); }
 
 std::string case_file(const std::string& name) { return std::string(SETTLE_SOURCE_DIR) + "/cases/" + name; }
 

@@ -13,6 +13,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "cli_support.hpp"
 #include <ostream>
 #include <nlohmann/json.hpp>
 
@@ -22,37 +24,16 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using std::numbers::pi;
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
+using settle::test::read_text;
+using settle::test::scratch;
+
+struct Result : settle::test::CliResult {
   json parsed() const { return json::parse(out); }
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-fs::path scratch(const std::string& name) {
-  return fs::temp_directory_path() / ("settle_shape_cli_" + std::to_string(::getpid()) + "_" + name);
-}
-
 fs::path data(const std::string& name) { return fs::path(SETTLE_SOURCE_DIR) / "tests/data" / name; }
 
-Result run_shape(const std::string& arguments) {
-  const char* binary = std::getenv("SETTLE_BINARY");
-  if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
-  const fs::path out = scratch("stdout"), err = scratch("stderr");
-  const std::string command = std::string(binary) + " shape " + arguments + " > " + out.string() + " 2> " + err.string();
-  const int raw = std::system(command.c_str());
-  Result result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_text(out), read_text(err)};
-  fs::remove(out);
-  fs::remove(err);
-  return result;
-}
+Result run_shape(const std::string& arguments) { return {settle::test::run_settle("shape", arguments)}; }
 
 // JSON numbers are printed with 17 significant digits: round trips are exact, and the
 // closed forms below are evaluated to ~1e-15, so 1e-13 relative is tight but safe.

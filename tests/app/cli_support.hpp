@@ -1,0 +1,48 @@
+#pragma once
+// Running the real `settle` binary (SETTLE_BINARY, set by CTest) from case tests.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace settle::test {
+
+/// Exit status (-1 when killed by a signal) and the captured output of one command.
+struct CliResult {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+/// A file name in the temporary directory, unique to this test process.
+inline std::filesystem::path scratch(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("settle_cli_" + std::to_string(::getpid()) + "_" + name);
+}
+
+/// Runs `settle <subcommand> <arguments>` through the shell and captures stdout and stderr.
+inline CliResult run_settle(const std::string& subcommand, const std::string& arguments) {
+  const char* binary = std::getenv("SETTLE_BINARY");
+  if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
+  const std::filesystem::path out = scratch("stdout"), err = scratch("stderr");
+  const std::string command = std::string(binary) + " " + subcommand + " " + arguments + " > " + out.string() +
+                              " 2> " + err.string();
+  const int raw = std::system(command.c_str());
+  CliResult result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_text(out), read_text(err)};
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return result;
+}
+
+}  // namespace settle::test
