@@ -397,7 +397,6 @@ ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {
   // The window moves by `sign`: new cell k holds old cell k + sign. The layer at k = 0
   // (sign -1: k = n - 1) of the old content leaves; the opposite layer enters at rest.
   const int leaving = sign > 0 ? 0 : n_axis - 1;
-  const int entering = sign > 0 ? n_axis - 1 : 0;
   const auto cell_of = [&](int k, int u, int v) {
     std::array<int, 3> c{};
     c[axis] = k;
@@ -414,18 +413,35 @@ ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {
     }
   }
   const double layer_cells = static_cast<double>(nu) * static_cast<double>(nv);
+  // Layers along an axis are contiguous blocks of the padded grid (a cell along x, a row of sx
+  // elements along y, a plane of sxy along z), so the shift is a memmove of whole blocks per
+  // population array: sequential traffic instead of strided walks. Ghost cells inside the
+  // moved blocks move too; they are stale at an even parity and rebuilt below at an odd one.
+  const std::array<std::size_t, 3> block{1, layout_.sx, layout_.sxy};
+  const std::size_t layer = block[axis];
+  // Blocks that hold the layers: one per (y, z) row for x, one per plane for y, one for z.
+  std::vector<std::size_t> starts;
+  if (axis == 0) {
+    for (int z = 0; z < config_.nz; ++z)
+      for (int y = 0; y < config_.ny; ++y) starts.push_back(layout_.index(0, y, z));
+  } else if (axis == 1) {
+    for (int z = 0; z < config_.nz; ++z) starts.push_back(layout_.index(0, 0, z) - layout_.x_begin);
+  } else {
+    starts.push_back(layout_.index(0, 0, 0) - layout_.x_begin - layout_.sx);
+  }
+  const std::size_t moved = layer * static_cast<std::size_t>(n_axis - 1);
   Real* const data = populations_.data();
+  const std::ptrdiff_t block_count = static_cast<std::ptrdiff_t>(starts.size());
 #pragma omp parallel for collapse(2) schedule(static) if (threaded_)
   for (int q = 0; q < Q; ++q) {
-    for (int v = 0; v < nv; ++v) {
-      Real* const array = data + static_cast<std::size_t>(q) * layout_.pop_stride;
-      for (int u = 0; u < nu; ++u) {
-        // Walk along the axis in the direction that reads ahead of the writes.
-        for (int step = 0; step < n_axis - 1; ++step) {
-          const int k = sign > 0 ? step : n_axis - 1 - step;
-          array[cell_of(k, u, v)] = array[cell_of(k + sign, u, v)];
-        }
-        array[cell_of(entering, u, v)] = Real(0);  // rest at rho = 1 (shifted storage)
+    for (std::ptrdiff_t b = 0; b < block_count; ++b) {
+      Real* const first = data + static_cast<std::size_t>(q) * layout_.pop_stride + starts[b];
+      if (sign > 0) {
+        std::memmove(first, first + layer, moved * sizeof(Real));
+        std::fill(first + moved, first + moved + layer, Real(0));  // rest at rho = 1 (shifted storage)
+      } else {
+        std::memmove(first + layer, first, moved * sizeof(Real));
+        std::fill(first, first + layer, Real(0));
       }
     }
   }
