@@ -9,6 +9,8 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "support/matrix_checks.hpp"
+
 #include "attitude/attitude.hpp"
 #include "attitude/integrators.hpp"
 #include "attitude/rotational_dynamics.hpp"
@@ -18,22 +20,9 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
-/// maximum = max(maximum, value), but a NaN, once seen, stays (std::max would drop it).
-void raise_to(double& maximum, double value) {
-  if (std::isnan(maximum) || std::isnan(value)) {
-    maximum = std::nan("");
-  } else {
-    maximum = std::max(maximum, value);
-  }
-}
-
-double max_abs_difference(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  return (a - b).cwiseAbs().maxCoeff();
-}
-
-Eigen::Matrix3d rotation_about(const Eigen::Vector3d& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-}
+using settle::test::max_abs_difference;
+using settle::test::raise_to;
+using settle::test::rotation_about;
 
 // ---------------------------------------------------------------------------------------
 // Torque-free asymmetric top near its intermediate axis: the body tumbles (repeated flips
