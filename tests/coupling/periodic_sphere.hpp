@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 
@@ -187,6 +188,19 @@ inline BoxExtrapolation extrapolate_box(const RotatingSphereResult& small_box, c
   e.ratio_infinite = (r2 * p1 - r1 * p2) / (p1 - p2);
   e.coefficient = (r1 - r2) / (e.ratio_infinite * (p1 - p2));
   return e;
+}
+
+/// run_rotating_sphere at a resolution and box size, steady to 1e-5, with its figures printed.
+inline RotatingSphereResult run_rotating_sphere_printed(double cells_per_diameter, int box_cells) {
+  PeriodicSphereOptions o;
+  o.cells_per_diameter = cells_per_diameter;
+  o.box_cells = box_cells;
+  o.steady_tolerance = 1e-5;
+  const RotatingSphereResult r = run_rotating_sphere(o);
+  std::printf("d = %g cells, L = %d: phi = %.5f, T / (8 pi mu a^3 Omega) = %.4f, Re = %.1e, change %.1e, %lld steps\n",
+              cells_per_diameter, box_cells, r.volume_fraction, r.torque_ratio, r.reynolds, r.last_relative_change,
+              static_cast<long long>(r.steps));
+  return r;
 }
 
 }  // namespace settle::coupling::testing

@@ -14,15 +14,7 @@ namespace {
 using namespace settle::coupling::testing;
 
 RotatingSphereResult run(double cells_per_diameter, int box_cells) {
-  PeriodicSphereOptions o;
-  o.cells_per_diameter = cells_per_diameter;
-  o.box_cells = box_cells;
-  o.steady_tolerance = 1e-5;
-  const RotatingSphereResult r = run_rotating_sphere(o);
-  std::printf("d = %g cells, L = %d: phi = %.5f, T / (8 pi mu a^3 Omega) = %.4f, Re = %.1e, change %.1e, %lld steps\n",
-              cells_per_diameter, box_cells, r.volume_fraction, r.torque_ratio, r.reynolds, r.last_relative_change,
-              static_cast<long long>(r.steps));
-  return r;
+  return run_rotating_sphere_printed(cells_per_diameter, box_cells);
 }
 
 TEST(RotatingSphereValidation, StokesTorqueAt24CellsPerDiameter) {
