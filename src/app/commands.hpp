@@ -10,5 +10,8 @@ void add_shape_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_schema_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_predict_command(CLI::App& app);
+void add_analyze_command(CLI::App& app);
+void add_plot_command(CLI::App& app);
 
 }  // namespace settle::app

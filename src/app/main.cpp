@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   settle::app::add_bench_command(app);
   settle::app::add_schema_command(app);
   settle::app::add_run_command(app);
+  settle::app::add_predict_command(app);
+  settle::app::add_analyze_command(app);
+  settle::app::add_plot_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
