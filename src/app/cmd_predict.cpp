@@ -1,8 +1,348 @@
-// Placeholder: replaced by the owner of `settle predict`.
+// `settle predict`: terminal velocity, Reynolds number and drag coefficient of one particle
+// from every empirical correlation of src/analysis/correlations.hpp, each with its validity
+// range and a flag when the particle lies outside it. The particle and fluid come from a case
+// file ([fluid] and [particle]) or from flags; output is a table, or with --json a list of
+// objects (docs/correlations.md).
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "analysis/correlations.hpp"
 #include "app/commands.hpp"
+#include "attitude/attitude.hpp"
+#include "body/shape_factory.hpp"
+#include "common/error.hpp"
+#include "io/case.hpp"
 
 namespace settle::app {
+namespace {
 
-void add_predict_command(CLI::App& /*app*/) {}
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;  // keys in the order written
+
+// Raw flag values; parsed and validated in run() so that every message names its flag.
+struct PredictOptions {
+  std::string case_file;
+  std::optional<std::string> shape, diameter, aspect_ratio, semi_axes, length, size, exponents, mesh, scale;
+  std::optional<std::string> density, fluid_density, viscosity, gravity, euler;
+  std::string orientation = "broadside";
+  std::optional<std::string> powers_roundness;
+  bool as_json = false;
+};
+
+// What the laws need: the particle's descriptors and the fluid.
+struct Problem {
+  analysis::ParticleDescriptors particle;
+  double fluid_density_si = 0.0;
+  double dynamic_viscosity_si = 0.0;
+  double gravity_si = 0.0;
+};
+
+// ------------------------------------------------------------------ parsing
+
+double parse_number(const std::string& text, const std::string& flag) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [stop, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || stop != end || !std::isfinite(value)) {
+    throw InputError(fmt::format("{}: expected a finite number, got '{}'", flag, text));
+  }
+  return value;
+}
+
+double positive_number(const std::string& text, const std::string& flag) {
+  const double value = parse_number(text, flag);
+  if (!(value > 0.0)) throw InputError(fmt::format("{}: must be > 0, got {}", flag, text));
+  return value;
+}
+
+template <std::size_t N>
+std::array<double, N> parse_list(const std::string& text, const std::string& flag) {
+  std::vector<std::string> parts(1);
+  for (char c : text) {
+    if (c == ',') parts.emplace_back();
+    else parts.back() += c;
+  }
+  if (parts.size() != N) throw InputError(fmt::format("{}: expected {} comma-separated numbers, got '{}'", flag, N, text));
+  std::array<double, N> values{};
+  for (std::size_t i = 0; i < N; ++i) values[i] = parse_number(parts[i], flag);
+  return values;
+}
+
+// The command-line flag of each [particle] shape key, for the shape factory's messages.
+std::string flag_of(std::string_view key) {
+  if (key == "file") return "--mesh";
+  std::string flag = "--" + std::string(key);
+  for (char& c : flag) c = c == '_' ? '-' : c;
+  return flag;
+}
+
+// The flags that describe the particle or fluid, e.g. "--shape, --density" (empty if none).
+std::string particle_flags_given(const PredictOptions& o) {
+  const std::pair<const char*, bool> flags[] = {
+      {"--shape", o.shape.has_value()},       {"--diameter", o.diameter.has_value()},
+      {"--aspect-ratio", o.aspect_ratio.has_value()}, {"--semi-axes", o.semi_axes.has_value()},
+      {"--length", o.length.has_value()},     {"--size", o.size.has_value()},
+      {"--exponents", o.exponents.has_value()}, {"--mesh", o.mesh.has_value()},
+      {"--scale", o.scale.has_value()},       {"--density", o.density.has_value()},
+      {"--fluid-density", o.fluid_density.has_value()}, {"--viscosity", o.viscosity.has_value()},
+      {"--gravity", o.gravity.has_value()},   {"--euler", o.euler.has_value()}};
+  std::string given;
+  for (const auto& [flag, present] : flags) {
+    if (present) given += (given.empty() ? "" : ", ") + std::string(flag);
+  }
+  return given;
+}
+
+body::ShapeSpec spec_from_flags(const PredictOptions& o) {
+  body::ShapeSpec spec;
+  if (o.mesh) {
+    if (o.shape && *o.shape != "mesh") throw InputError(fmt::format("--mesh: cannot be used with --shape {}", *o.shape));
+    spec.shape = "mesh";
+    spec.file = *o.mesh;
+  } else if (o.shape) {
+    spec.shape = *o.shape;
+  } else {
+    throw InputError("--shape: give a shape (sphere, spheroid, ellipsoid, cylinder, cuboid, superellipsoid) or --mesh FILE");
+  }
+  if (o.diameter) spec.diameter = parse_number(*o.diameter, "--diameter");
+  if (o.aspect_ratio) spec.aspect_ratio = parse_number(*o.aspect_ratio, "--aspect-ratio");
+  if (o.length) spec.length = parse_number(*o.length, "--length");
+  if (o.scale) spec.scale = parse_number(*o.scale, "--scale");
+  if (o.semi_axes) spec.semi_axes = parse_list<3>(*o.semi_axes, "--semi-axes");
+  if (o.size) spec.size = parse_list<3>(*o.size, "--size");
+  if (o.exponents) spec.exponents = parse_list<2>(*o.exponents, "--exponents");
+  return spec;
+}
+
+double required_positive(const std::optional<std::string>& text, const char* flag, const char* what) {
+  if (!text) throw InputError(fmt::format("{}: required without a case file ({}, > 0)", flag, what));
+  return positive_number(*text, flag);
+}
+
+analysis::Orientation parse_orientation(const std::string& text) {
+  const auto orientation = analysis::parse_orientation(text);
+  if (!orientation) throw InputError(fmt::format("--orientation: expected broadside, initial or mean, got '{}'", text));
+  return *orientation;
+}
+
+double parse_roundness(const PredictOptions& o) {
+  if (!o.powers_roundness) return 6.0;
+  const double p = parse_number(*o.powers_roundness, "--powers-roundness");
+  if (p < 0.0 || p > 6.0) throw InputError(fmt::format("--powers-roundness: must be in [0, 6], got {}", *o.powers_roundness));
+  return p;
+}
+
+// ------------------------------------------------------------------ the particle
+
+Problem problem_from_flags(const PredictOptions& o, analysis::Orientation orientation, double roundness) {
+  body::ShapeFactoryOptions factory;
+  factory.key_name = flag_of;
+  const std::unique_ptr<body::Shape> shape = body::make_shape(spec_from_flags(o), factory);
+  Problem p;
+  const double density = required_positive(o.density, "--density", "particle density, kg/m^3");
+  p.fluid_density_si = required_positive(o.fluid_density, "--fluid-density", "fluid density, kg/m^3");
+  p.dynamic_viscosity_si = required_positive(o.viscosity, "--viscosity", "dynamic viscosity, Pa s");
+  p.gravity_si = o.gravity ? positive_number(*o.gravity, "--gravity") : 9.81;
+  if (density == p.fluid_density_si) {
+    throw InputError(fmt::format("--density: must differ from --fluid-density ({}), else nothing settles", *o.fluid_density));
+  }
+  // Gravity points along -z; --euler is the initial attitude (set 1, body to inertial).
+  Eigen::Vector3d fall_body = -Eigen::Vector3d::UnitZ();
+  if (o.euler) {
+    const auto e = parse_list<3>(*o.euler, "--euler");
+    fall_body = attitude::Attitude::from_set1(e[0], e[1], e[2]).inertial_to_body() * fall_body;
+  }
+  p.particle = analysis::describe_particle(*shape, density, orientation, fall_body, roundness);
+  return p;
+}
+
+// The shape keys of a checked case (the same mapping as io::simulation_setup).
+body::ShapeSpec shape_spec_of(const io::CaseValues& v) {
+  const auto array3 = [&](std::string_view key) {
+    const auto& x = v.reals(key);
+    return std::array<double, 3>{x[0], x[1], x[2]};
+  };
+  body::ShapeSpec spec;
+  spec.shape = v.string("particle.shape");
+  if (v.has("particle.diameter")) spec.diameter = v.real("particle.diameter");
+  if (v.has("particle.aspect_ratio")) spec.aspect_ratio = v.real("particle.aspect_ratio");
+  if (v.has("particle.semi_axes")) spec.semi_axes = array3("particle.semi_axes");
+  if (v.has("particle.exponents")) {
+    const auto& e = v.reals("particle.exponents");
+    spec.exponents = std::array<double, 2>{e[0], e[1]};
+  }
+  if (v.has("particle.length")) spec.length = v.real("particle.length");
+  if (v.has("particle.size")) spec.size = array3("particle.size");
+  if (v.has("particle.file")) spec.file = v.string("particle.file");
+  if (v.given("particle.scale")) spec.scale = v.real("particle.scale");
+  return spec;
+}
+
+Eigen::Vector3d vector3_of(const io::CaseValues& v, std::string_view key) {
+  const auto& x = v.reals(key);
+  return {x[0], x[1], x[2]};
+}
+
+// Only [fluid] and [particle] matter here, so a case without [domain] (not runnable) is fine;
+// the schema still checks every key that is present.
+Problem problem_from_case(const fs::path& path, analysis::Orientation orientation, double roundness) {
+  const io::CaseValues values = io::load_case(path, {});
+  try {
+    body::ShapeFactoryOptions factory;
+    factory.base_directory = fs::absolute(path).parent_path();
+    const std::unique_ptr<body::Shape> shape = body::make_shape(shape_spec_of(values), factory);
+    Problem p;
+    p.fluid_density_si = values.real("fluid.density");
+    p.dynamic_viscosity_si = values.real("fluid.dynamic_viscosity");
+    const double density = values.real("particle.density");
+    if (density == p.fluid_density_si) {
+      throw InputError(fmt::format("particle.density: must differ from fluid.density ({}), else nothing settles",
+                                   p.fluid_density_si));
+    }
+    const Eigen::Vector3d gravity = vector3_of(values, "fluid.gravity");
+    p.gravity_si = gravity.norm();
+    if (!(p.gravity_si > 0.0)) throw InputError("fluid.gravity: must be non-zero for a terminal velocity");
+    const Eigen::Vector3d euler = vector3_of(values, "particle.euler");
+    const Eigen::Vector3d fall_body =
+        attitude::Attitude::from_set1(euler[0], euler[1], euler[2]).inertial_to_body() * (gravity / p.gravity_si);
+    p.particle = analysis::describe_particle(*shape, density, orientation, fall_body, roundness);
+    return p;
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    if (message.rfind(path.string(), 0) == 0) throw;
+    throw InputError(path.string() + ": " + message);
+  }
+}
+
+// ------------------------------------------------------------------ output
+
+json number_or_null(bool present, double value) { return present ? json(value) : json(nullptr); }
+
+json prediction_json(const analysis::LawPrediction& p, analysis::Orientation orientation) {
+  json descriptors = json::object();
+  for (const auto& [name, value] : p.descriptors) descriptors[name] = std::isfinite(value) ? json(value) : json(nullptr);
+  return {{"law", p.law},
+          {"terminal_velocity", number_or_null(p.state.solved, p.state.terminal_velocity_si)},
+          {"reynolds", number_or_null(p.state.solved, p.state.reynolds)},
+          {"drag_coefficient", number_or_null(p.state.solved, p.state.drag_coefficient)},
+          {"in_range", p.in_range},
+          {"solved", p.state.solved},
+          {"range", p.range},
+          {"reason", p.reason},
+          {"orientation", analysis::orientation_name(orientation)},
+          {"descriptors", descriptors},
+          {"citation", p.citation}};
+}
+
+std::string table(const Problem& problem, const std::vector<analysis::LawPrediction>& predictions) {
+  const analysis::ParticleDescriptors& d = problem.particle;
+  std::string out = fmt::format(
+      "{}: d_v = {:.5g} m, rho_p = {:.6g} kg/m^3; fluid rho_f = {:.6g} kg/m^3, mu = {:.4g} Pa s, g = {:.4g} m/s^2\n",
+      d.shape_kind, d.equivalent_diameter_si, d.density_si, problem.fluid_density_si, problem.dynamic_viscosity_si,
+      problem.gravity_si);
+  const Eigen::Vector3d& f = d.fall_direction_body;
+  out += d.orientation == analysis::Orientation::mean
+             ? std::string("orientation mean (averaged over all orientations)")
+             : fmt::format("orientation {} (fall along body ({:.3f}, {:.3f}, {:.3f}))",
+                           analysis::orientation_name(d.orientation), f.x(), f.y(), f.z());
+  out += fmt::format(
+      ": sphericity {:.4g}, crosswise {:.4g}, lengthwise {:.4g}, flatness {:.4g}, elongation {:.4g}, Corey {:.4g}, "
+      "Powers roundness {:.3g}\n\n",
+      d.sphericity, d.crosswise_sphericity, d.lengthwise_sphericity, d.flatness, d.elongation, d.corey_shape_factor,
+      d.powers_roundness);
+  out += fmt::format("{:<18} {:>11} {:>11} {:>11}  {:<8}  {}\n", "law", "U (m/s)", "Re", "C_D", "in range", "range / note");
+  for (const auto& p : predictions) {
+    const auto cell = [&](double v) { return p.state.solved ? fmt::format("{:>11.4e}", v) : fmt::format("{:>11}", "-"); };
+    out += fmt::format("{:<18} {} {} {}  {:<8}  {}{}\n", p.law, cell(p.state.terminal_velocity_si),
+                       cell(p.state.reynolds), cell(p.state.drag_coefficient), p.in_range ? "yes" : "NO", p.range,
+                       p.reason.empty() ? "" : " -- " + p.reason);
+  }
+  return out;
+}
+
+void run(const PredictOptions& o) {
+  const analysis::Orientation orientation = parse_orientation(o.orientation);
+  const double roundness = parse_roundness(o);
+  if (o.euler && orientation != analysis::Orientation::initial) {
+    throw InputError(fmt::format("--euler: only used with --orientation initial (got --orientation {})", o.orientation));
+  }
+  Problem problem;
+  if (!o.case_file.empty()) {
+    if (const std::string flags = particle_flags_given(o); !flags.empty()) {
+      throw InputError(flags + ": cannot be combined with a case file (its [fluid] and [particle] tables are used)");
+    }
+    problem = problem_from_case(o.case_file, orientation, roundness);
+  } else {
+    problem = problem_from_flags(o, orientation, roundness);
+  }
+  const std::vector<analysis::LawPrediction> predictions = analysis::predict_terminal_velocities(
+      problem.particle, problem.fluid_density_si, problem.dynamic_viscosity_si, problem.gravity_si);
+  if (o.as_json) {
+    json list = json::array();
+    for (const auto& p : predictions) list.push_back(prediction_json(p, orientation));
+    std::cout << list.dump(2) << '\n';
+  } else {
+    std::cout << table(problem, predictions);
+  }
+}
+
+}  // namespace
+
+void add_predict_command(CLI::App& app) {
+  auto options = std::make_shared<PredictOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "predict",
+      "Terminal velocity and drag coefficient of a particle from empirical correlations (Schiller-Naumann, "
+      "Clift-Grace-Weber, Haider-Levenspiel, Ganser, Hoelzer-Sommerfeld, Bagheri-Bonadonna, Dietrich), each solved to "
+      "force balance and flagged when the particle is outside its range. The particle and fluid come from a case file "
+      "or from flags; SI units.");
+  cmd->add_option("case", options->case_file, "case file (TOML) whose [fluid] and [particle] tables are used")
+      ->type_name("CASE.toml");
+  cmd->add_option("--shape", options->shape, "sphere | spheroid | ellipsoid | cylinder | cuboid | superellipsoid | mesh")
+      ->type_name("NAME");
+  cmd->add_option("--diameter", options->diameter, "sphere, spheroid (equatorial) and cylinder diameter, m")
+      ->type_name("D");
+  cmd->add_option("--aspect-ratio", options->aspect_ratio, "spheroid: polar / equatorial diameter (symmetry axis z)")
+      ->type_name("A");
+  cmd->add_option("--semi-axes", options->semi_axes, "ellipsoid, superellipsoid: semi-axes along body x,y,z, m")
+      ->type_name("a,b,c");
+  cmd->add_option("--length", options->length, "cylinder length along body z, m")->type_name("L");
+  cmd->add_option("--size", options->size, "cuboid edge lengths along body x,y,z, m")->type_name("a,b,c");
+  cmd->add_option("--exponents", options->exponents, "superellipsoid exponents in [0.1, 2] (Barr's convention)")
+      ->type_name("e1,e2");
+  cmd->add_option("--mesh", options->mesh, "watertight STL file; implies --shape mesh")->type_name("FILE");
+  cmd->add_option("--scale", options->scale, "mesh: factor from file units to metres (default 1)")->type_name("S");
+  cmd->add_option("--density", options->density, "particle density, kg/m^3 (required without a case)")
+      ->type_name("RHO_P");
+  cmd->add_option("--fluid-density", options->fluid_density, "fluid density, kg/m^3 (required without a case)")
+      ->type_name("RHO_F");
+  cmd->add_option("--viscosity", options->viscosity, "dynamic viscosity, Pa s (required without a case)")
+      ->type_name("MU");
+  cmd->add_option("--gravity", options->gravity, "gravitational acceleration, m/s^2 (default 9.81)")->type_name("G");
+  cmd->add_option("--orientation", options->orientation,
+                  "which side faces the fall, for the crosswise/lengthwise sphericity and Ganser's d_n: broadside "
+                  "(default; fall along the thinnest principal axis), initial (the case's euler, or --euler) or mean "
+                  "(tumbling: orientation-averaged shadow)")
+      ->type_name("broadside|initial|mean");
+  cmd->add_option("--euler", options->euler,
+                  "without a case, with --orientation initial: initial attitude (set 1 angles psi,theta,gamma in rad, "
+                  "body to inertial; gravity along -z)")
+      ->type_name("psi,theta,gamma");
+  cmd->add_option("--powers-roundness", options->powers_roundness,
+                  "Powers roundness for Dietrich's law, 0 (angular) to 6 (perfectly round); default 6 (smooth bodies)")
+      ->type_name("P");
+  cmd->add_flag("--json", options->as_json, "print a JSON list with one object per law instead of a table");
+  cmd->callback([options] { run(*options); });
+}
 
 }  // namespace settle::app

@@ -1,0 +1,164 @@
+#pragma once
+// VTK XML output for ParaView (issue 5): the fluid on the grid as ImageData (.vti), the
+// particle's surface as PolyData (.vtp), and ParaView data collections (.pvd) that list them
+// in time. Format: the XML file formats of the VTK documentation ("VTK File Formats",
+// https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html; also in the VTK User's
+// Guide, Kitware).
+//
+// Every file is self-contained XML with one block of raw binary "appended" data at the end: each
+// array is a UInt64 byte count followed by its values in the machine's byte order, which the
+// header declares (byte_order="LittleEndian" on x86-64 and ARM). Raw binary keeps files small and
+// fast to write and read; ParaView reads it directly.
+//
+// Units: SI throughout (m, s, m/s, Pa, 1/s). Frames: the inertial frame of the case (z up).
+// Every file is written atomically (a temporary file next to it, then a rename), so a reader or a
+// run that stops never sees half a file. A file that cannot be written raises settle::InputError
+// naming its path. The caller creates the output directory.
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "body/rigid_body.hpp"
+#include "body/shape.hpp"
+#include "body/triangle_mesh.hpp"
+#include "coupling/immersed_body.hpp"
+#include "coupling/units.hpp"
+#include "lbm/solver.hpp"
+
+namespace settle::io {
+
+/// Value type of the floating-point arrays in the file.
+enum class VtkPrecision {
+  float32,  ///< about 7 significant digits: plenty for looking at fields, half the size
+  float64,
+};
+
+struct VtkOptions {
+  VtkPrecision precision = VtkPrecision::float32;
+  /// Simulated time (s), written as the field-data array "TimeValue" that ParaView shows when the
+  /// file is opened on its own (a .pvd carries the time anyway).
+  std::optional<double> time_si;
+};
+
+/// How the lattice fields map to SI, and where the grid sits. Lattice units: dx = dt = 1,
+/// reference density 1 (lbm/config.hpp).
+struct FieldScaling {
+  /// SI position of the grid's lower corner: the corner of cell (0, 0, 0), which moves with the
+  /// moving window (coupling::LatticeFrame::window_origin_si).
+  Eigen::Vector3d window_origin_si = Eigen::Vector3d::Zero();
+  double dx_si = 1.0;             ///< m
+  double dt_si = 1.0;             ///< s
+  double fluid_density_si = 1.0;  ///< kg/m^3, the reference density rho_0
+
+  double velocity_scale_si() const { return dx_si / dt_si; }  ///< m/s per lattice velocity
+  /// Pa per lattice pressure (lattice pressure is in units of rho_0 dx^2 / dt^2).
+  double pressure_scale_si() const { return fluid_density_si * dx_si * dx_si / (dt_si * dt_si); }
+  double rate_scale_si() const { return 1.0 / dt_si; }  ///< 1/s per lattice vorticity
+};
+
+/// The scaling of a run: its converter and the window's current origin.
+FieldScaling field_scaling(const coupling::UnitConverter& units, const Eigen::Vector3d& window_origin_si);
+
+/// An extra scalar written with the fluid: one SI value per cell, linear index x + nx (y + ny z).
+struct ScalarPointField {
+  std::string name;
+  std::vector<double> values;
+};
+
+/// Writes the fluid as ImageData with one point per cell centre: Origin = window origin + dx/2,
+/// Spacing = dx, WholeExtent 0..nx-1 etc. Point data (at the cell centres, so that ParaView's
+/// contours and stream tracers apply directly):
+///   "velocity"  (3 components, m/s; Guo's half-force correction included, lbm::Solver)
+///   "pressure"  (Pa) p = c_s^2 (rho - rho_0) scaled to SI: the hydrodynamic pressure relative to
+///               the reference. The lattice fluid carries no gravity, so there is no hydrostatic
+///               part (coupling/simulation.hpp).
+///   "vorticity" (3 components, 1/s) curl u by second-order central differences
+///               (lbm::Solver::vorticity_field, one-sided at non-periodic faces)
+/// followed by `extra` fields in the order given (each must hold cell_count() values and have a
+/// name distinct from the others; std::invalid_argument otherwise). The fields are computed one
+/// after another while the file is written, so the extra memory is that of the vorticity.
+void write_fluid_vti(const std::filesystem::path& path, const lbm::Solver& fluid, const FieldScaling& scaling,
+                     const VtkOptions& options = {}, std::span<const ScalarPointField> extra = {});
+
+/// Solid volume fraction per cell (linear index of `fluid`), 0 outside the body, from the body's
+/// solid cells (coupling::solid_cells). Cells on periodic axes wrap into the grid; cells outside
+/// a non-periodic axis (none, for a body the coupling can step) are dropped.
+std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const coupling::SolidCells& cells);
+
+/// A closed, outward-oriented triangulation of the shape's surface in the body frame (same units
+/// as the shape), built once and placed at each output's pose by write_surface_vtp.
+///  - Meshes (body::MeshShape): the mesh's own triangles; max_edge is ignored.
+///  - Analytic shapes: the cube-sphere grid of body/cube_sphere.hpp with grid lines cut into
+///    edges of max_edge or less (each grid quad is split along its shorter diagonal, so triangle
+///    edges reach about sqrt(2) max_edge), each grid point u on the cube [-1, 1]^3 sent to the surface along the ray
+///    from the centroid in direction (h . u), h the half-extents of the bounding box, by bisection
+///    on the inside test to 1e-13 of the bounding radius. Stretching the ray directions by h keeps
+///    the triangles of elongated and flat bodies even, and puts the cube's edges and corners
+///    exactly on a cuboid's, so a cuboid comes out exact. Valid for bodies that are star-shaped
+///    about the centroid: every analytic shape is (all are convex). Sharp edges that the grid
+///    does not follow (a cylinder's rims) are cut by up to one triangle.
+/// Throws std::invalid_argument for max_edge not finite and > 0, or so small that the grid would
+/// need more than about ten million triangles.
+body::TriangleMesh surface_triangulation(const body::Shape& shape, double max_edge);
+
+/// Where the body is and how it moves (SI, inertial frame).
+struct BodySnapshot {
+  Eigen::Vector3d position_si = Eigen::Vector3d::Zero();  ///< centroid, m
+  Eigen::Matrix3d body_to_inertial = Eigen::Matrix3d::Identity();  ///< C_b^n: body-frame vector to inertial
+  Eigen::Vector3d velocity_si = Eigen::Vector3d::Zero();            ///< of the centroid, m/s
+  Eigen::Vector3d angular_velocity_n_si = Eigen::Vector3d::Zero();  ///< inertial frame, rad/s
+};
+
+/// The snapshot of a rigid body's current state.
+BodySnapshot body_snapshot(const body::RigidBody& body);
+
+/// Writes the body-frame surface at the snapshot's pose as PolyData: points x = X_c + C_b^n p
+/// (always Float64: a small particle far from the origin needs more than float32's 7 digits),
+/// triangles as polygons (counterclockwise seen from outside), point data "velocity" (3
+/// components, m/s), the rigid-body velocity v + omega x (x - X_c) of each surface point. No
+/// normals are written: ParaView shades each triangle flat, which shows a cuboid's edges sharp;
+/// its "Generate Surface Normals" filter gives smooth shading where wanted.
+void write_surface_vtp(const std::filesystem::path& path, const body::TriangleMesh& surface_b, const BodySnapshot& body,
+                       const VtkOptions& options = {});
+
+/// A ParaView data collection (.pvd): a list of (time, file) that ParaView plays as a time
+/// series. Every add() rewrites the whole .pvd atomically, so a run that stops at any moment
+/// leaves a valid collection of the files written so far.
+class PvdCollection {
+ public:
+  struct Entry {
+    double time_si = 0.0;
+    std::string file;  ///< as written in the .pvd: relative to the .pvd's directory
+  };
+
+  /// An empty collection at `pvd_path`; nothing is written until the first add().
+  explicit PvdCollection(std::filesystem::path pvd_path);
+
+  /// Continues a collection after a restart: reads the entries of an existing .pvd written by
+  /// this class, keeps those with time <= keep_until_time_si (later ones belong to the part of
+  /// the run that is being redone) and rewrites the file when it dropped any. A missing file
+  /// gives an empty collection. A file that is not such a collection raises settle::InputError.
+  static PvdCollection resume(std::filesystem::path pvd_path, double keep_until_time_si);
+
+  /// Appends an entry and rewrites the .pvd. `file` is the data file's path as the program
+  /// opens it (absolute or relative to the working directory: the path given to the writer); it
+  /// is stored relative to the .pvd's directory, so the output folder can be moved. Times must
+  /// increase strictly (std::invalid_argument otherwise).
+  void add(double time_si, const std::filesystem::path& file);
+
+  const std::vector<Entry>& entries() const { return entries_; }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  void rewrite() const;
+
+  std::filesystem::path path_;
+  std::vector<Entry> entries_;
+};
+
+}  // namespace settle::io
