@@ -136,6 +136,7 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
 
   // The body and its stencil must start inside the grid: checked before the grid is allocated.
   const Eigen::Vector3d centre = frame_.to_lattice(setup_.initial.position_si);
+  window_anchor_ = centre;
   const CellBox box = box_at(centre);
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
@@ -247,9 +248,7 @@ void Simulation::step() {
 void Simulation::follow_body() {
   const Eigen::Vector3d centre = frame_.to_lattice(body_->state().position_si);
   for (int a = 0; a < 3; ++a) {
-    // The window's centre in lattice coordinates (cell centres at integers).
-    const double window_centre = 0.5 * (derived_.cells[static_cast<std::size_t>(a)] - 1);
-    const double offset = centre[a] - window_centre;
+    const double offset = centre[a] - window_anchor_[a];
     if (std::abs(offset) < 1.0) continue;
     const int sign = offset > 0.0 ? 1 : -1;
     fluid_->shift(a, sign);

@@ -10,7 +10,7 @@
 //  4. hydrodynamic_force minus the marker forces plus the rate of change of the fluid momentum
 //                        inside the body (Kempe and Froehlich 2012), at the predicted pose
 //  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct)
-//  6. moving_window      shift the fluid one cell when the body is a cell off the window centre
+//  6. moving_window      shift the fluid one cell when the body is a cell off its starting place
 //
 // Coupling choices written down here: the markers move with the velocities of the step's start
 // (explicit in the body velocity, as Uhlmann 2005 and Breugem 2012); the wrench measured at the
@@ -150,6 +150,9 @@ class Simulation {
   std::unique_ptr<body::RigidBody> body_;
   BodyMarkers markers_;
   double box_radius_cells_ = 0.0;
+  /// Where the moving window holds the body (lattice coordinates): its starting place, so the
+  /// case chooses how much fluid lies ahead of the body and how much wake behind it.
+  Eigen::Vector3d window_anchor_ = Eigen::Vector3d::Zero();
   FluidMomentum internal_before_;
   SubstepTimers timers_;
   StepObservation last_;
