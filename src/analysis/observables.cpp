@@ -1,0 +1,698 @@
+#include "analysis/observables.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "body/cylinder.hpp"
+#include "body/mass_properties.hpp"
+#include "body/projected_area.hpp"
+#include "body/shape.hpp"
+#include "common/error.hpp"
+#include "coupling/simulation.hpp"
+#include "coupling/units.hpp"
+
+namespace settle::analysis {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDegreesPerRadian = 180.0 / kPi;
+// The direct DFT costs points^2 / 2 per component: 4096 points keep it near 10^7 operations
+// while resolving hundreds of periods per window.
+constexpr std::size_t kMaxSpectralPoints = 4096;
+// Projected areas of non-convex meshes cost milliseconds each; the mean shadow of a slowly
+// turning body is well estimated from this many samples spread over the window.
+constexpr std::size_t kMaxProjectedAreaSamples = 64;
+// Below this length the mean of the axis direction (which cancels for a tumbling body) no
+// longer defines a mean axis; the principal direction of <e e^T> is used instead.
+constexpr double kMeanAxisMinLength = 0.2;
+// An averaging window needs this many samples before its regime is judged.
+constexpr std::size_t kMinClassifiableSamples = 8;
+
+double clamp_unit(double x) { return std::clamp(x, -1.0, 1.0); }
+
+// Trapezoidal time mean (the value itself for a single sample).
+template <class T>
+T time_mean(const std::vector<double>& t, const std::vector<T>& values) {
+  if (values.size() == 1) return values.front();
+  T sum = 0.5 * (t[1] - t[0]) * (values[0] + values[1]);
+  for (std::size_t i = 1; i + 1 < values.size(); ++i) sum += 0.5 * (t[i + 1] - t[i]) * (values[i] + values[i + 1]);
+  return sum / (t.back() - t.front());
+}
+
+std::vector<double> subtract_mean(const std::vector<double>& t, std::vector<double> values) {
+  const double mean = time_mean(t, values);
+  for (double& v : values) v -= mean;
+  return values;
+}
+
+// Central differences (one-sided at the ends) on a possibly non-uniform grid.
+std::vector<double> derivative(const std::vector<double>& t, const std::vector<double>& x) {
+  const std::size_t n = x.size();
+  std::vector<double> dx(n, 0.0);
+  if (n < 2) return dx;
+  dx[0] = (x[1] - x[0]) / (t[1] - t[0]);
+  dx[n - 1] = (x[n - 1] - x[n - 2]) / (t[n - 1] - t[n - 2]);
+  for (std::size_t i = 1; i + 1 < n; ++i) dx[i] = (x[i + 1] - x[i - 1]) / (t[i + 1] - t[i - 1]);
+  return dx;
+}
+
+// Adds multiples of 2 pi so that consecutive angles differ by less than pi.
+std::vector<double> unwrap(std::vector<double> angle) {
+  for (std::size_t i = 1; i < angle.size(); ++i) {
+    const double step = angle[i] - angle[i - 1];
+    angle[i] -= 2.0 * kPi * std::round(step / (2.0 * kPi));
+  }
+  return angle;
+}
+
+// Sums of squares of x about its mean (total) and about its least-squares line in t (residual).
+struct TrendFit {
+  double total = 0.0, residual = 0.0;
+};
+
+TrendFit linear_trend(const std::vector<double>& t, const std::vector<double>& x) {
+  const auto n = static_cast<double>(x.size());
+  double mt = 0.0, mx = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) mt += t[i] / n, mx += x[i] / n;
+  double stt = 0.0, stx = 0.0, sxx = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    stt += (t[i] - mt) * (t[i] - mt);
+    stx += (t[i] - mt) * (x[i] - mx);
+    sxx += (x[i] - mx) * (x[i] - mx);
+  }
+  return {sxx, stt > 0.0 ? std::max(0.0, sxx - stx * stx / stt) : sxx};
+}
+
+// Fraction of the variance of the components that a straight line in t explains.
+double trend_fraction(const std::vector<double>& t, const std::vector<std::vector<double>>& components) {
+  double total = 0.0, residual = 0.0;
+  for (const auto& x : components) {
+    const TrendFit fit = linear_trend(t, x);
+    total += fit.total;
+    residual += fit.residual;
+  }
+  return total > 0.0 ? 1.0 - residual / total : 0.0;
+}
+
+Eigen::Vector3d dominant_direction(const Eigen::Matrix3d& symmetric) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(symmetric);
+  return solver.eigenvectors().col(2);  // eigenvalues ascending
+}
+
+// ------------------------------------------------------------------ spectrum
+std::vector<double> resample_uniform(const std::vector<double>& t, const std::vector<double>& x, std::size_t points) {
+  std::vector<double> y(points);
+  const double t0 = t.front(), step = (t.back() - t.front()) / static_cast<double>(points - 1);
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < points; ++j) {
+    const double tj = j + 1 == points ? t.back() : t0 + step * static_cast<double>(j);
+    while (k + 2 < t.size() && t[k + 1] < tj) ++k;
+    const double s = (tj - t[k]) / (t[k + 1] - t[k]);
+    y[j] = x[k] + s * (x[k + 1] - x[k]);
+  }
+  return y;
+}
+
+// Hann-windowed components with the Hann-weighted mean removed (the windowed signal then has
+// no power at zero frequency).
+std::vector<std::vector<double>> windowed_components(const std::vector<double>& t,
+                                                     const std::vector<std::vector<double>>& components,
+                                                     std::size_t points) {
+  std::vector<double> hann(points);
+  double hann_sum = 0.0;
+  for (std::size_t j = 0; j < points; ++j) {
+    hann[j] = std::pow(std::sin(kPi * static_cast<double>(j) / static_cast<double>(points - 1)), 2);
+    hann_sum += hann[j];
+  }
+  std::vector<std::vector<double>> windowed;
+  for (const auto& x : components) {
+    std::vector<double> y = resample_uniform(t, x, points);
+    double mean = 0.0;
+    for (std::size_t j = 0; j < points; ++j) mean += hann[j] * y[j];
+    mean /= hann_sum;
+    for (std::size_t j = 0; j < points; ++j) y[j] = hann[j] * (y[j] - mean);
+    windowed.push_back(std::move(y));
+  }
+  return windowed;
+}
+
+// Summed power of the components at a frequency given in cycles per sample.
+double power_at(const std::vector<std::vector<double>>& windowed, double cycles_per_sample) {
+  double power = 0.0;
+  for (const auto& y : windowed) {
+    std::complex<double> sum = 0.0;
+    for (std::size_t j = 0; j < y.size(); ++j)
+      sum += y[j] * std::polar(1.0, -2.0 * kPi * cycles_per_sample * static_cast<double>(j));
+    power += std::norm(sum);
+  }
+  return power;
+}
+
+// Power in the DFT bins k = 0 .. points/2 (one-sided), summed over the components.
+std::vector<double> bin_powers(const std::vector<std::vector<double>>& windowed, std::size_t points) {
+  std::vector<std::complex<double>> twiddle(points);
+  for (std::size_t r = 0; r < points; ++r)
+    twiddle[r] = std::polar(1.0, -2.0 * kPi * static_cast<double>(r) / static_cast<double>(points));
+  std::vector<double> power(points / 2 + 1, 0.0);
+  for (const auto& y : windowed)
+    for (std::size_t k = 0; k < power.size(); ++k) {
+      std::complex<double> sum = 0.0;
+      for (std::size_t j = 0; j < points; ++j) sum += y[j] * twiddle[(k * j) % points];
+      power[k] += std::norm(sum);
+    }
+  return power;
+}
+
+// Golden-section search for the maximum of the power between two frequencies (cycles/sample).
+double refine_peak(const std::vector<std::vector<double>>& windowed, double low, double high) {
+  const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = low, b = high;
+  double c = b - ratio * (b - a), d = a + ratio * (b - a);
+  double pc = power_at(windowed, c), pd = power_at(windowed, d);
+  for (int iteration = 0; iteration < 60 && b - a > 1e-9 * (high - low); ++iteration) {
+    if (pc > pd) {
+      b = d, d = c, pd = pc;
+      c = b - ratio * (b - a), pc = power_at(windowed, c);
+    } else {
+      a = c, c = d, pc = pd;
+      d = a + ratio * (b - a), pd = power_at(windowed, d);
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+// ------------------------------------------------------------------ the averaging window
+// The samples of one window, with the derived per-sample signals the observables use.
+struct WindowSeries {
+  std::vector<double> t;
+  std::vector<Eigen::Vector3d> position, velocity, omega_b, force, torque;
+  std::vector<Eigen::Matrix3d> body_to_inertial;
+};
+
+WindowSeries window_of(const SettlingSeries& s, double start_si) {
+  WindowSeries w;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s.t_si[i] < start_si) continue;
+    w.t.push_back(s.t_si[i]);
+    w.position.push_back(s.position_si[i]);
+    w.velocity.push_back(s.velocity_si[i]);
+    w.omega_b.push_back(s.angular_velocity_b_si[i]);
+    w.force.push_back(s.force_si[i]);
+    w.torque.push_back(s.torque_si[i]);
+    w.body_to_inertial.push_back(s.body_to_inertial[i]);
+  }
+  return w;
+}
+
+// Unit vectors down (along g) and two horizontal ones completing a right-handed frame.
+struct VerticalFrame {
+  Eigen::Vector3d down, h1, h2;
+};
+
+VerticalFrame vertical_frame(const Eigen::Vector3d& gravity_si) {
+  const double g = gravity_si.norm();
+  if (!(g > 0.0) || !std::isfinite(g))
+    throw InputError("fluid.gravity: the settling analysis needs a finite, non-zero gravity vector");
+  const Eigen::Vector3d down = gravity_si / g;
+  const auto [h1, h2] = body::orthonormal_complement(down);
+  return {down, h1, h2};
+}
+
+// ------------------------------------------------------------------ groups of observables
+void velocity_and_path(const WindowSeries& w, const VerticalFrame& frame, Analysis& a) {
+  a.mean_velocity_si = time_mean(w.t, w.velocity);
+  a.terminal_speed_si = a.mean_velocity_si.norm();
+  a.vertical_velocity_si = a.mean_velocity_si.dot(frame.down);
+  const Eigen::Vector3d horizontal = a.mean_velocity_si - a.vertical_velocity_si * frame.down;
+  a.lateral_drift_speed_si = horizontal.norm();
+  a.path_angle_deg = std::atan2(a.lateral_drift_speed_si, std::abs(a.vertical_velocity_si)) * kDegreesPerRadian;
+  const Eigen::Vector3d moved = w.position.back() - w.position.front();
+  a.lateral_displacement_si = (moved - moved.dot(frame.down) * frame.down).norm();
+}
+
+void dimensionless_groups(const ParticleProperties& p, Analysis& a) {
+  const double d = p.equivalent_diameter_si, nu = p.kinematic_viscosity_si(), g = p.gravity_si.norm();
+  a.density_ratio = p.particle_density_si / p.fluid_density_si;
+  a.reynolds = a.terminal_speed_si * d / nu;
+  a.galileo = coupling::galileo_number(d, p.particle_density_si, p.fluid_density_si, nu, g);
+  a.archimedes = a.galileo * a.galileo;
+  // ten Cate et al. 2002, Phys. Fluids 14, 4012, doi:10.1063/1.1512918: St = (rho_p/rho_f) Re / 9.
+  a.stokes_number = p.particle_density_si * a.terminal_speed_si * d / (9.0 * p.dynamic_viscosity_si);
+  // Field et al. 1997, Nature 388, 252, doi:10.1038/40817: I* = I / (rho_f d^5) of a thin disk
+  // about a diameter, I = pi rho_d h d^4 / 64 (the thickness term h^2/12 of a finite disk is
+  // left out, as in their definition).
+  if (p.disk_diameter_si && p.disk_thickness_si)
+    a.dimensionless_inertia =
+        kPi * p.particle_density_si * *p.disk_thickness_si / (64.0 * p.fluid_density_si * *p.disk_diameter_si);
+}
+
+double mean_projected_area(const WindowSeries& w, const ParticleProperties& p, const Eigen::Vector3d& motion) {
+  const std::size_t n = w.t.size(), count = std::min(n, kMaxProjectedAreaSamples);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t i = count == 1 ? 0 : k * (n - 1) / (count - 1);
+    sum += p.projected_area_si(w.body_to_inertial[i].transpose() * motion);
+  }
+  return sum / static_cast<double>(count);
+}
+
+void drag(const WindowSeries& w, const ParticleProperties& p, Analysis& a) {
+  a.mean_force_si = time_mean(w.t, w.force);
+  a.mean_torque_si = time_mean(w.t, w.torque);
+  const double speed = a.terminal_speed_si;
+  if (!(speed > 0.0)) return;
+  const Eigen::Vector3d motion = a.mean_velocity_si / speed;
+  const double d = p.equivalent_diameter_si;
+  const double reference = 0.5 * p.fluid_density_si * speed * speed * kPi * d * d / 4.0;
+  // At the terminal state the mean hydrodynamic force balances the net weight; its component
+  // against the motion is the drag (the rest is lift).
+  const Eigen::Vector3d net_weight = (p.particle_density_si - p.fluid_density_si) * p.volume_si * p.gravity_si;
+  a.drag_coefficient = net_weight.dot(motion) / reference;
+  a.drag_coefficient_from_force = -a.mean_force_si.dot(motion) / reference;
+  if (!p.projected_area_si) return;
+  a.projected_area_si = mean_projected_area(w, p, motion);
+  if (*a.projected_area_si > 0.0)
+    a.drag_coefficient_projected_area = a.drag_coefficient * (kPi * d * d / 4.0) / *a.projected_area_si;
+}
+
+void lateral_motion(const WindowSeries& w, const VerticalFrame& frame, Analysis& a) {
+  std::vector<double> u1, u2;
+  for (const auto& u : w.velocity) {
+    u1.push_back(u.dot(frame.h1));
+    u2.push_back(u.dot(frame.h2));
+  }
+  u1 = subtract_mean(w.t, std::move(u1));
+  u2 = subtract_mean(w.t, std::move(u2));
+  std::vector<Eigen::Matrix2d> outer;
+  for (std::size_t i = 0; i < u1.size(); ++i) {
+    const Eigen::Vector2d du(u1[i], u2[i]);
+    outer.push_back(du * du.transpose());
+  }
+  const Eigen::Matrix2d covariance = time_mean(w.t, outer);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(covariance);
+  a.lateral_amplitude_si = std::sqrt(2.0 * std::max(0.0, solver.eigenvalues()[1]));
+  a.lateral_minor_amplitude_si = std::sqrt(2.0 * std::max(0.0, solver.eigenvalues()[0]));
+
+  // Circularity: the mean rate at which the fluctuation vector sweeps area, against its size
+  // and speed (Cauchy-Schwarz bounds it by 1; 0 for a planar oscillation).
+  const std::vector<double> du1 = derivative(w.t, u1), du2 = derivative(w.t, u2);
+  std::vector<double> cross, size, rate;
+  for (std::size_t i = 0; i < u1.size(); ++i) {
+    cross.push_back(u1[i] * du2[i] - u2[i] * du1[i]);
+    size.push_back(u1[i] * u1[i] + u2[i] * u2[i]);
+    rate.push_back(du1[i] * du1[i] + du2[i] * du2[i]);
+  }
+  const double scale = std::sqrt(time_mean(w.t, size) * time_mean(w.t, rate));
+  a.lateral_circularity = scale > 0.0 ? std::abs(time_mean(w.t, cross)) / scale : 0.0;
+  a.lateral_trend_fraction = trend_fraction(w.t, {u1, u2});
+  a.lateral_peak = spectral_peak(w.t, {u1, u2});
+}
+
+// Unit axis of the body in the inertial frame at each sample.
+std::vector<Eigen::Vector3d> axis_directions(const WindowSeries& w, const Eigen::Vector3d& axis_b) {
+  std::vector<Eigen::Vector3d> e;
+  for (const auto& c : w.body_to_inertial) e.push_back((c * axis_b).normalized());
+  return e;
+}
+
+Eigen::Vector3d mean_axis(const std::vector<double>& t, const std::vector<Eigen::Vector3d>& e) {
+  const Eigen::Vector3d mean = time_mean(t, e);
+  if (mean.norm() >= kMeanAxisMinLength) return mean.normalized();
+  std::vector<Eigen::Matrix3d> outer;
+  for (const auto& v : e) outer.push_back(v * v.transpose());
+  return dominant_direction(time_mean(t, outer));
+}
+
+void tilt(const WindowSeries& w, const VerticalFrame& frame, const std::vector<Eigen::Vector3d>& e, Analysis& a) {
+  std::vector<double> angle_from_vertical;
+  for (const auto& v : e) angle_from_vertical.push_back(std::acos(std::abs(clamp_unit(v.dot(frame.down)))));
+  a.tilt_mean_deg = time_mean(w.t, angle_from_vertical) * kDegreesPerRadian;
+  const Eigen::Vector3d m = mean_axis(w.t, e);
+  a.mean_axis_tilt_deg = std::acos(std::abs(clamp_unit(m.dot(frame.down)))) * kDegreesPerRadian;
+
+  // Signed deviation from the mean axis, in the direction in which the axis swings most.
+  std::vector<Eigen::Matrix3d> outer;
+  std::vector<Eigen::Vector3d> deviation;
+  for (const auto& v : e) {
+    deviation.push_back(v - v.dot(m) * m);
+    outer.push_back(deviation.back() * deviation.back().transpose());
+  }
+  const Eigen::Vector3d swing = dominant_direction(time_mean(w.t, outer));
+  std::vector<double> alpha;
+  for (std::size_t i = 0; i < e.size(); ++i) alpha.push_back(std::atan2(deviation[i].dot(swing), e[i].dot(m)));
+  alpha = subtract_mean(w.t, unwrap(std::move(alpha)));
+  std::vector<double> squares;
+  for (double x : alpha) squares.push_back(x * x);
+  a.tilt_amplitude_deg = std::sqrt(2.0 * time_mean(w.t, squares)) * kDegreesPerRadian;
+  a.tilt_trend_fraction = trend_fraction(w.t, {alpha});
+  a.tilt_peak = spectral_peak(w.t, {alpha});
+}
+
+// The net turn of the axis about the axis it turns about on average (e x de summed), the total
+// angle it sweeps, and how far that rotation axis rises above the horizontal.
+void axis_rotation(const WindowSeries& w, const VerticalFrame& frame, const std::vector<Eigen::Vector3d>& e,
+                   Analysis& a) {
+  Eigen::Vector3d swept = Eigen::Vector3d::Zero();
+  double total = 0.0;
+  for (std::size_t i = 0; i + 1 < e.size(); ++i) {
+    const Eigen::Vector3d c = e[i].cross(e[i + 1]);
+    swept += c;
+    total += std::atan2(c.norm(), e[i].dot(e[i + 1]));
+  }
+  if (!(swept.norm() > 0.0) || !(total > 0.0)) return;
+  const Eigen::Vector3d h = swept.normalized();
+  double net = 0.0;
+  for (std::size_t i = 0; i + 1 < e.size(); ++i) {
+    const Eigen::Vector3d p0 = e[i] - e[i].dot(h) * h, p1 = e[i + 1] - e[i + 1].dot(h) * h;
+    net += std::atan2(p0.cross(p1).dot(h), p0.dot(p1));
+  }
+  a.axis_net_rotation = net;
+  a.axis_rotation_rate_si = net / (w.t.back() - w.t.front());
+  a.axis_rotation_monotonicity = std::abs(net) / total;
+  a.axis_rotation_elevation_deg = std::asin(std::abs(clamp_unit(h.dot(frame.down)))) * kDegreesPerRadian;
+}
+
+void frequencies(const ParticleProperties& p, const RegimeThresholds& th, Analysis& a) {
+  const double speed = a.terminal_speed_si, d = p.equivalent_diameter_si;
+  // A spectral peak of a fluctuation below the steadiness thresholds is noise, not a frequency.
+  const bool lateral_moves = speed > 0.0 && a.lateral_amplitude_si >= th.steady_lateral_amplitude * speed;
+  if (lateral_moves && a.lateral_peak.found) {
+    a.lateral_frequency_hz = a.lateral_peak.frequency_hz;
+    a.lateral_strouhal = a.lateral_peak.frequency_hz * d / speed;
+  }
+  const bool tilt_moves = a.tilt_amplitude_deg && *a.tilt_amplitude_deg >= th.steady_tilt_amplitude_deg;
+  if (tilt_moves && a.tilt_peak.found) {
+    a.tilt_frequency_hz = a.tilt_peak.frequency_hz;
+    if (speed > 0.0) a.tilt_strouhal = a.tilt_peak.frequency_hz * d / speed;
+  }
+}
+
+bool is_periodic(Regime regime) {
+  return regime == Regime::zigzag || regime == Regime::fluttering || regime == Regime::spiral ||
+         regime == Regime::oblique_oscillating;
+}
+
+// A periodic regime's frequency tells whether the detection window held the two periods its
+// Hann weighting needs (terminal_state.hpp).
+void window_warnings(Analysis& a) {
+  const double window = a.criteria.window_si();
+  if (!(window > 0.0)) return;
+  const auto check = [&](const std::optional<double>& f, const char* what) {
+    if (!f || *f * window >= 2.0) return;
+    a.warnings.push_back(fmt::format(
+        "the terminal-state window ({:.4g} s = {:.3g} response times) holds only {:.2f} periods of the {} oscillation "
+        "({:.4g} Hz); detection and the window mean need two: use a window of {:.3g} response times or more",
+        window, a.criteria.window_response_times, *f * window, what, *f, 2.0 / (*f * a.criteria.response_time_si)));
+  };
+  check(a.lateral_frequency_hz, "lateral");
+  check(a.tilt_frequency_hz, "tilt");
+}
+
+// The criterion is only judged on windows with enough samples: say so when the output was too
+// sparse for it in a run long enough for detection.
+void sampling_warning(const SettlingSeries& series, Analysis& a) {
+  if (a.terminal.reached || !(a.criteria.response_time_si > 0.0)) return;
+  const bool long_enough = series.t_si.back() - series.t_si.front() >= 2.0 * a.criteria.window_si();
+  if (!long_enough || a.terminal.samples_per_window >= a.criteria.min_samples_per_window) return;
+  a.warnings.push_back(fmt::format("the output has at most {} samples per terminal-state window (< {}): the criterion "
+                                   "could not be judged; write samples more often (run.output_interval)",
+                                   a.terminal.samples_per_window, a.criteria.min_samples_per_window));
+}
+
+RegimeEvidence regime_evidence(const Analysis& a, std::string not_classifiable_reason) {
+  RegimeEvidence e;
+  e.classifiable = not_classifiable_reason.empty();
+  e.not_classifiable_reason = std::move(not_classifiable_reason);
+  const double speed = a.terminal_speed_si;
+  e.path_angle_deg = a.path_angle_deg;
+  e.lateral_drift_ratio = speed > 0.0 ? a.lateral_drift_speed_si / speed : 0.0;
+  e.lateral_amplitude_ratio = speed > 0.0 ? a.lateral_amplitude_si / speed : 0.0;
+  e.lateral_circularity = a.lateral_circularity;
+  e.lateral_concentration = a.lateral_peak.concentration;
+  e.lateral_cycles = a.lateral_peak.cycles;
+  e.lateral_trend_fraction = a.lateral_trend_fraction;
+  e.has_axis = a.axis.kind != AxisKind::none;
+  e.tilt_amplitude_deg = a.tilt_amplitude_deg.value_or(0.0);
+  e.tilt_concentration = a.tilt_peak.concentration;
+  e.tilt_cycles = a.tilt_peak.cycles;
+  e.tilt_trend_fraction = a.tilt_trend_fraction;
+  e.axis_net_rotation = a.axis_net_rotation;
+  e.axis_rotation_monotonicity = a.axis_rotation_monotonicity;
+  e.axis_rotation_elevation_deg = a.axis_rotation_elevation_deg;
+  return e;
+}
+
+// Why the window cannot be classified, or "" when it can.
+std::string classifiability(const Analysis& a) {
+  if (a.window_samples < kMinClassifiableSamples)
+    return fmt::format("the averaging window has {} samples (< {})", a.window_samples, kMinClassifiableSamples);
+  if (!(a.terminal_speed_si > 0.0)) return "the particle does not move";
+  if (a.terminal.reached || !(a.criteria.response_time_si > 0.0)) return "";
+  const double half = a.window_end_si - a.window_start_si, needed = 2.0 * a.criteria.window_si();
+  if (half < needed)
+    return fmt::format("no terminal state, and the second half of the run ({:.4g} s) is shorter than the two "
+                       "detection windows ({:.4g} s) that would have to disagree for an unsteady regime",
+                       half, needed);
+  return "";
+}
+
+void choose_window(const SettlingSeries& series, Analysis& a) {
+  const double t0 = series.t_si.front(), t1 = series.t_si.back();
+  a.averaged_over_terminal_window = a.terminal.reached;
+  a.window_start_si = a.terminal.reached ? a.terminal.terminal_time_si : t0 + 0.5 * (t1 - t0);
+  a.window_end_si = t1;
+}
+
+nlohmann::ordered_json optional_json(const std::optional<double>& value) {
+  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json vector_json(const Eigen::Vector3d& v) {
+  return nlohmann::ordered_json::array({v[0], v[1], v[2]});
+}
+
+std::string_view axis_kind_name(AxisKind kind) {
+  switch (kind) {
+    case AxisKind::symmetry: return "symmetry";
+    case AxisKind::longest: return "longest";
+    case AxisKind::none: break;
+  }
+  return "none";
+}
+
+nlohmann::ordered_json peak_json(const SpectralPeak& peak, const std::optional<double>& frequency,
+                                 const std::optional<double>& strouhal) {
+  nlohmann::ordered_json j;
+  j["frequency"] = optional_json(frequency);
+  j["strouhal"] = optional_json(strouhal);
+  j["spectral_concentration"] = peak.found ? nlohmann::ordered_json(peak.concentration) : nullptr;
+  j["periods_in_window"] = peak.found ? nlohmann::ordered_json(peak.cycles) : nullptr;
+  return j;
+}
+
+}  // namespace
+
+TerminalCriteria terminal_criteria(const ParticleProperties& p, const AnalysisOptions& options) {
+  TerminalCriteria c;
+  c.response_time_si = options.response_time_si.value_or(
+      estimated_response_time_si(p.equivalent_diameter_si, p.particle_density_si, p.fluid_density_si,
+                                 p.dynamic_viscosity_si, p.gravity_si.norm()));
+  c.window_response_times = options.window_response_times;
+  c.tolerance = options.tolerance;
+  c.min_samples_per_window = options.min_samples_per_window;
+  return c;
+}
+
+BodyAxis body_axis(const body::MassProperties& mass) {
+  const Eigen::Vector3d& m = mass.principal.moments;  // ascending
+  const Eigen::Matrix3d& axes = mass.principal.axes;
+  const double low_gap = m[1] - m[0], high_gap = m[2] - m[1];
+  if (m[2] - m[0] <= 1e-6 * m[2]) return {AxisKind::none, Eigen::Vector3d::UnitZ()};
+  if (low_gap <= 1e-2 * high_gap) return {AxisKind::symmetry, axes.col(2)};
+  if (high_gap <= 1e-2 * low_gap) return {AxisKind::symmetry, axes.col(0)};
+  return {AxisKind::longest, axes.col(0)};
+}
+
+ParticleProperties particle_properties(std::shared_ptr<const body::Shape> shape, double particle_density_si,
+                                       double fluid_density_si, double dynamic_viscosity_si,
+                                       const Eigen::Vector3d& gravity_si) {
+  ParticleProperties p;
+  p.fluid_density_si = fluid_density_si;
+  p.dynamic_viscosity_si = dynamic_viscosity_si;
+  p.gravity_si = gravity_si;
+  p.particle_density_si = particle_density_si;
+  p.volume_si = shape->volume();
+  p.equivalent_diameter_si = shape->equivalent_diameter();
+  p.axis = body_axis(shape->mass_properties(particle_density_si));
+  if (const auto* cylinder = dynamic_cast<const body::Cylinder*>(shape.get());
+      cylinder != nullptr && cylinder->length() < 2.0 * cylinder->radius()) {
+    p.disk_diameter_si = 2.0 * cylinder->radius();
+    p.disk_thickness_si = cylinder->length();
+  }
+  p.projected_area_si = [shape](const Eigen::Vector3d& direction_b) { return shape->projected_area(direction_b); };
+  return p;
+}
+
+ParticleProperties particle_properties(const coupling::SimulationSetup& setup) {
+  return particle_properties(setup.shape, setup.particle_density_si, setup.fluid_density_si,
+                             setup.dynamic_viscosity_si, setup.gravity_si);
+}
+
+SpectralPeak spectral_peak(const std::vector<double>& t_si, const std::vector<std::vector<double>>& components) {
+  SpectralPeak peak;
+  if (t_si.size() < 4 || components.empty()) return peak;
+  const std::size_t points = std::min(t_si.size(), kMaxSpectralPoints);
+  const auto windowed = windowed_components(t_si, components, points);
+  // A constant signal leaves only the round-off of its mean: no peak to find.
+  double signal = 0.0, fluctuation = 0.0;
+  for (std::size_t c = 0; c < components.size(); ++c) {
+    for (double x : components[c]) signal = std::max(signal, std::abs(x));
+    for (double y : windowed[c]) fluctuation = std::max(fluctuation, std::abs(y));
+  }
+  if (!(fluctuation > 1e-12 * signal)) return peak;
+  const std::vector<double> power = bin_powers(windowed, points);
+  double total = 0.0;
+  for (double p : power) total += p;
+  if (!(total > 0.0)) return peak;
+  const auto highest = std::max_element(power.begin() + 1, power.end());
+  const auto k = static_cast<double>(highest - power.begin());
+  const double n = static_cast<double>(points);
+  const double cycles_per_sample =
+      refine_peak(windowed, std::max(0.0, k - 1.0) / n, std::min(static_cast<double>(power.size() - 1), k + 1.0) / n);
+  const double sample_step = (t_si.back() - t_si.front()) / (n - 1.0);
+  double near_peak = 0.0;
+  for (std::size_t b = 0; b < power.size(); ++b)
+    if (std::abs(static_cast<double>(b) - cycles_per_sample * n) <= 2.0) near_peak += power[b];
+  peak.found = true;
+  peak.frequency_hz = cycles_per_sample / sample_step;
+  peak.concentration = near_peak / total;
+  peak.cycles = peak.frequency_hz * (t_si.back() - t_si.front());
+  return peak;
+}
+
+Analysis analyse(const SettlingSeries& series, const ParticleProperties& properties, const AnalysisOptions& options) {
+  if (series.size() < 2) throw InputError("the analysis needs at least 2 samples");
+  const VerticalFrame frame = vertical_frame(properties.gravity_si);
+  Analysis a;
+  a.criteria = terminal_criteria(properties, options);
+  if (a.criteria.response_time_si > 0.0) {
+    a.terminal = detect_terminal_state(series.t_si, series.velocity_si, a.criteria);
+  } else {
+    a.warnings.emplace_back("no net weight (particle density equals fluid density): no terminal-state detection");
+  }
+  choose_window(series, a);
+  const WindowSeries w = window_of(series, a.window_start_si);
+  a.window_samples = w.t.size();
+  a.window_start_si = w.t.front();  // the first sample averaged
+  a.axis = properties.axis;
+
+  velocity_and_path(w, frame, a);
+  dimensionless_groups(properties, a);
+  drag(w, properties, a);
+  lateral_motion(w, frame, a);
+  a.mean_body_rotation_rate_si = time_mean(w.t, w.omega_b);
+  if (a.axis.kind != AxisKind::none) {
+    const std::vector<Eigen::Vector3d> e = axis_directions(w, a.axis.axis_b);
+    tilt(w, frame, e, a);
+    axis_rotation(w, frame, e, a);
+  }
+  frequencies(properties, options.thresholds, a);
+  a.evidence = regime_evidence(a, classifiability(a));
+  a.regime = classify_regime(a.evidence, options.thresholds);
+  if (a.regime.regime == Regime::tumbling) {
+    a.mean_axis_tilt_deg.reset();
+    a.tilt_amplitude_deg.reset();
+    a.tilt_frequency_hz.reset();
+    a.tilt_strouhal.reset();
+  }
+  if (is_periodic(a.regime.regime)) window_warnings(a);
+  sampling_warning(series, a);
+  return a;
+}
+
+nlohmann::ordered_json to_json(const Analysis& a) {
+  using json = nlohmann::ordered_json;
+  json j;
+  j["terminal_velocity"] = a.terminal_speed_si;
+  j["terminal_vertical_velocity"] = a.vertical_velocity_si;
+  j["reynolds"] = a.reynolds;
+  j["drag_coefficient"] = a.drag_coefficient;
+  j["galileo"] = a.galileo;
+  j["regime"] = regime_name(a.regime.regime);
+  j["regime_reason"] = a.regime.reason;
+  j["terminal_velocity_vector"] = vector_json(a.mean_velocity_si);
+  j["archimedes"] = a.archimedes;
+  j["stokes_number"] = a.stokes_number;
+  j["density_ratio"] = a.density_ratio;
+  j["dimensionless_inertia"] = optional_json(a.dimensionless_inertia);
+  j["drag_coefficient_projected_area"] = optional_json(a.drag_coefficient_projected_area);
+  j["projected_area"] = optional_json(a.projected_area_si);
+  j["drag_coefficient_from_force"] = a.drag_coefficient_from_force;
+
+  json terminal;
+  terminal["reached"] = a.terminal.reached;
+  terminal["time"] = a.terminal.reached ? json(a.terminal.terminal_time_si) : json(nullptr);
+  terminal["detected_at"] = a.terminal.reached ? json(a.terminal.detected_at_si) : json(nullptr);
+  terminal["relative_change"] = a.terminal.reached ? json(a.terminal.relative_change) : json(nullptr);
+  terminal["response_time"] = a.criteria.response_time_si;
+  terminal["window"] = a.criteria.window_si();
+  terminal["window_response_times"] = a.criteria.window_response_times;
+  terminal["tolerance"] = a.criteria.tolerance;
+  j["terminal_state"] = terminal;
+
+  json averaging;
+  averaging["basis"] = a.averaged_over_terminal_window ? "terminal_window" : "second_half";
+  averaging["start_time"] = a.window_start_si;
+  averaging["end_time"] = a.window_end_si;
+  averaging["samples"] = a.window_samples;
+  j["averaging"] = averaging;
+
+  json lateral;
+  lateral["drift_velocity"] = a.lateral_drift_speed_si;
+  lateral["path_angle_deg"] = a.path_angle_deg;
+  lateral["displacement"] = a.lateral_displacement_si;
+  lateral["amplitude"] = a.lateral_amplitude_si;
+  lateral["minor_amplitude"] = a.lateral_minor_amplitude_si;
+  lateral["circularity"] = a.lateral_circularity;
+  lateral["trend_fraction"] = a.lateral_trend_fraction;
+  lateral.update(peak_json(a.lateral_peak, a.lateral_frequency_hz, a.lateral_strouhal));
+  j["lateral"] = lateral;
+
+  json tilt_json;
+  tilt_json["axis"] = axis_kind_name(a.axis.kind);
+  if (a.axis.kind != AxisKind::none) {
+    tilt_json["axis_body"] = vector_json(a.axis.axis_b);
+    tilt_json["mean_deg"] = a.tilt_mean_deg;
+    tilt_json["mean_axis_deg"] = optional_json(a.mean_axis_tilt_deg);
+    tilt_json["amplitude_deg"] = optional_json(a.tilt_amplitude_deg);
+    tilt_json["trend_fraction"] = a.tilt_trend_fraction;
+    tilt_json.update(peak_json(a.tilt_peak, a.tilt_frequency_hz, a.tilt_strouhal));
+  }
+  j["tilt"] = tilt_json;
+
+  json rotation;
+  rotation["mean_body_rate"] = vector_json(a.mean_body_rotation_rate_si);
+  if (a.axis.kind != AxisKind::none) {
+    rotation["axis_net_rotation"] = a.axis_net_rotation;
+    rotation["axis_rotation_rate"] = a.axis_rotation_rate_si;
+    rotation["axis_rotation_monotonicity"] = a.axis_rotation_monotonicity;
+    rotation["rotation_axis_elevation_deg"] = a.axis_rotation_elevation_deg;
+  }
+  j["rotation"] = rotation;
+
+  // The runner's averages (coupling::RunSummary), over the analysis' window.
+  j["averaged_samples"] = a.window_samples;
+  j["mean_force"] = vector_json(a.mean_force_si);
+  j["mean_torque"] = vector_json(a.mean_torque_si);
+  j["mean_relative_flow"] = vector_json(-a.mean_velocity_si);
+  j["analysis_warnings"] = a.warnings;
+  return j;
+}
+
+}  // namespace settle::analysis

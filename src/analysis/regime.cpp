@@ -1,0 +1,106 @@
+#include "analysis/regime.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/core.h>
+
+namespace settle::analysis {
+namespace {
+
+bool is_tumbling(const RegimeEvidence& e, const RegimeThresholds& th) {
+  return e.has_axis && std::abs(e.axis_net_rotation) >= th.tumbling_min_net_rotation &&
+         e.axis_rotation_monotonicity >= th.tumbling_min_monotonicity &&
+         e.axis_rotation_elevation_deg <= th.tumbling_max_axis_elevation_deg;
+}
+
+bool lateral_is_steady(const RegimeEvidence& e, const RegimeThresholds& th) {
+  return e.lateral_amplitude_ratio < th.steady_lateral_amplitude;
+}
+
+bool tilt_is_steady(const RegimeEvidence& e, const RegimeThresholds& th) {
+  return !e.has_axis || e.tilt_amplitude_deg < th.steady_tilt_amplitude_deg;
+}
+
+RegimeResult steady(const RegimeEvidence& e, const RegimeThresholds& th) {
+  const std::string numbers = fmt::format("lateral amplitude {:.3g}% of the speed, tilt amplitude {:.3g} deg, path "
+                                          "{:.3g} deg from vertical",
+                                          100.0 * e.lateral_amplitude_ratio, e.tilt_amplitude_deg, e.path_angle_deg);
+  if (e.path_angle_deg >= th.oblique_path_angle_deg) return {Regime::steady_oblique, "steady, oblique: " + numbers};
+  return {Regime::steady_vertical, "steady, vertical: " + numbers};
+}
+
+RegimeResult periodic(const RegimeEvidence& e, const RegimeThresholds& th) {
+  if (e.lateral_circularity >= th.spiral_min_circularity)
+    return {Regime::spiral, fmt::format("periodic lateral velocity turning round the vertical (circularity {:.2f})",
+                                        e.lateral_circularity)};
+  const std::string planar = fmt::format("periodic planar oscillation (circularity {:.2f})", e.lateral_circularity);
+  const double lateral_amplitude = e.lateral_amplitude_ratio;
+  if (e.path_angle_deg >= th.oblique_path_angle_deg && lateral_amplitude < e.lateral_drift_ratio)
+    return {Regime::oblique_oscillating,
+            fmt::format("{} about a path {:.3g} deg from vertical; the lateral velocity does not reverse (amplitude "
+                        "{:.3g}, drift {:.3g} of the speed)",
+                        planar, e.path_angle_deg, lateral_amplitude, e.lateral_drift_ratio)};
+  if (e.has_axis && e.tilt_amplitude_deg >= th.flutter_min_tilt_amplitude_deg)
+    return {Regime::fluttering,
+            fmt::format("{} with a tilt amplitude of {:.3g} deg (>= {:.3g})", planar, e.tilt_amplitude_deg,
+                        th.flutter_min_tilt_amplitude_deg)};
+  return {Regime::zigzag, e.has_axis ? fmt::format("{} with a tilt amplitude of {:.3g} deg (< {:.3g})", planar,
+                                                   e.tilt_amplitude_deg, th.flutter_min_tilt_amplitude_deg)
+                                     : planar};
+}
+
+// Rules 3 and 4 of the header, on the unsteady signal: the lateral velocity, or the tilt when
+// only the tilt is unsteady.
+RegimeResult unsteady(const RegimeEvidence& e, const RegimeThresholds& th) {
+  const bool lateral_steady = lateral_is_steady(e, th);
+  const double concentration = lateral_steady ? e.tilt_concentration : e.lateral_concentration;
+  const double cycles = lateral_steady ? e.tilt_cycles : e.lateral_cycles;
+  const double trend = lateral_steady ? e.tilt_trend_fraction : e.lateral_trend_fraction;
+  const char* signal = lateral_steady ? "tilt" : "lateral velocity";
+  if (trend >= th.drift_min_trend_fraction)
+    return {Regime::not_classified,
+            fmt::format("the {} is still drifting: {:.0f}% of its variance over the window is a linear trend (>= "
+                        "{:.0f}%); run longer",
+                        signal, 100.0 * trend, 100.0 * th.drift_min_trend_fraction)};
+  const bool concentrated = concentration >= th.periodic_min_concentration;
+  if (concentrated && cycles >= th.periodic_min_cycles) return periodic(e, th);
+  if (concentrated)
+    return {Regime::not_classified,
+            fmt::format("unsteady, but the window holds only {:.2g} periods of the {} oscillation (< {:.3g}): too "
+                        "short to tell periodic from chaotic",
+                        cycles, signal, th.periodic_min_cycles)};
+  return {Regime::chaotic, fmt::format("unsteady and broadband: {:.0f}% of the {} fluctuation power near its peak "
+                                       "(< {:.0f}%)",
+                                       100.0 * concentration, signal, 100.0 * th.periodic_min_concentration)};
+}
+
+}  // namespace
+
+std::string_view regime_name(Regime regime) {
+  switch (regime) {
+    case Regime::steady_vertical: return "steady_vertical";
+    case Regime::steady_oblique: return "steady_oblique";
+    case Regime::oblique_oscillating: return "oblique_oscillating";
+    case Regime::zigzag: return "zigzag";
+    case Regime::fluttering: return "fluttering";
+    case Regime::tumbling: return "tumbling";
+    case Regime::spiral: return "spiral";
+    case Regime::chaotic: return "chaotic";
+    case Regime::not_classified: break;
+  }
+  return "not classified";
+}
+
+RegimeResult classify_regime(const RegimeEvidence& e, const RegimeThresholds& th) {
+  if (!e.classifiable) return {Regime::not_classified, e.not_classifiable_reason};
+  if (is_tumbling(e, th))
+    return {Regime::tumbling,
+            fmt::format("the axis turned {:.3g} turns about an axis {:.3g} deg above horizontal (monotonicity {:.2f})",
+                        std::abs(e.axis_net_rotation) / (2.0 * std::numbers::pi), e.axis_rotation_elevation_deg,
+                        e.axis_rotation_monotonicity)};
+  if (lateral_is_steady(e, th) && tilt_is_steady(e, th)) return steady(e, th);
+  return unsteady(e, th);
+}
+
+}  // namespace settle::analysis
