@@ -1,9 +1,18 @@
-// `settle run [CASE.toml] [-o DIR] [--set key=value]... [--threads N]` (DESIGN.md section 3):
-// loads and checks the case, converts units, runs the coupled simulation and writes
-// DIR/timeseries.csv, DIR/summary.json and DIR/case.resolved.toml (docs/coupling.md).
+// `settle run [CASE.toml] [-o DIR] [--set key=value]... [--threads N] [--max-memory GIB]`
+// (DESIGN.md section 3): loads and checks the case, runs the preflight checks (io/preflight.hpp,
+// docs/errors.md), converts units, runs the coupled simulation and writes DIR/timeseries.csv,
+// DIR/summary.json and DIR/case.resolved.toml (docs/coupling.md).
+//
+// Outputs on failure: every check runs, and the grid is allocated, before DIR is created or
+// touched, so a refused case (exit status 2) leaves DIR exactly as it was, or absent. Once the
+// run has started, summary.json is the completion mark: it is removed at the start (it would
+// describe an earlier run) and written only at the end, so a run that fails or is interrupted
+// leaves the rows it reached in timeseries.csv and no summary.json.
 #include <omp.h>
 
+#include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -17,6 +26,7 @@
 #include "coupling/simulation.hpp"
 #include "io/case.hpp"
 #include "io/output_files.hpp"
+#include "io/preflight.hpp"
 #include "lbm/config.hpp"
 
 namespace settle::app {
@@ -29,7 +39,29 @@ struct RunOptions {
   std::string output_dir;
   std::vector<std::string> overrides;
   int threads = 0;  ///< 0: OpenMP's default
+  double max_memory_gib = 0.0;
+  bool max_memory_given = false;  ///< --max-memory replaces MemAvailable as the budget
 };
+
+constexpr double kBytesPerGiB = 1024.0 * 1024.0 * 1024.0;
+
+void check_flags(const RunOptions& options) {
+  if (options.threads < 0)
+    throw InputError(fmt::format("--threads: must be >= 1 (or 0 for OpenMP's default), got {}", options.threads));
+  if (options.max_memory_given && !(std::isfinite(options.max_memory_gib) && options.max_memory_gib > 0.0))
+    throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
+}
+
+// Called only after every check passed and the grid is allocated (file comment).
+void prepare_output_directory(const fs::path& dir) {
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
+  fs::remove(dir / "summary.json", error);
+  if (error)
+    throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(),
+                                 error.message()));
+}
 
 std::string motion_name(body::MotionKind kind) {
   switch (kind) {
@@ -103,15 +135,25 @@ nlohmann::json summary_json(const coupling::Simulation& sim, const coupling::Run
 }
 
 void run_case(const RunOptions& options) {
-  if (options.threads < 0) throw InputError(fmt::format("--threads: must be >= 1, got {}", options.threads));
+  check_flags(options);
   const fs::path case_path = options.case_file;
   const io::CaseValues values = io::load_case(case_path, options.overrides);
   const std::string name = case_path.empty() ? "default" : case_path.stem().string();
   const fs::path base = case_path.empty() ? fs::current_path() : fs::absolute(case_path).parent_path();
-  const std::vector<std::string> warnings = io::unsupported_key_warnings(values);
+  std::vector<std::string> warnings = io::unsupported_key_warnings(values);
   for (const auto& w : warnings) fmt::print(stderr, "settle run: warning: {}\n", w);
 
-  coupling::Simulation sim(io::simulation_setup(values, base, name));
+  coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
+  const fs::path dir = options.output_dir.empty() ? fs::path("runs") / name : fs::path(options.output_dir);
+  io::PreflightOptions checks;
+  checks.output_directory = dir;
+  if (options.max_memory_given) checks.memory_budget_bytes = options.max_memory_gib * kBytesPerGiB;
+  const io::PreflightReport report = io::preflight(setup, checks);
+  for (const auto& w : report.warnings) fmt::print(stderr, "settle run: warning: {}\n", w);
+  warnings.insert(warnings.end(), report.warnings.begin(), report.warnings.end());
+  fmt::print(stderr, "settle run: {}: preflight passed: {}\n", name, report.summary());
+
+  coupling::Simulation sim(std::move(setup));
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto& d = sim.derived();
   fmt::print(stderr,
@@ -120,17 +162,21 @@ void run_case(const RunOptions& options) {
              name, d.dx_si, d.dt_si, d.tau, d.mach, d.reynolds, d.galileo, d.cells[0], d.cells[1], d.cells[2],
              d.marker_count, omp_get_max_threads());
 
-  const fs::path dir = options.output_dir.empty() ? fs::path("runs") / name : fs::path(options.output_dir);
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
+  prepare_output_directory(dir);
   io::write_file_atomically(dir / "case.resolved.toml", io::write_resolved_toml(values) + derived_block(sim));
 
   io::TimeseriesWriter timeseries(dir / "timeseries.csv");
   coupling::RunCallbacks callbacks;
   callbacks.on_sample = [&](const coupling::Sample& s) { timeseries.write(s); };
   callbacks.on_progress = [](const std::string& line) { fmt::print(stderr, "settle run: {}\n", line); };
-  const coupling::RunResult result = coupling::run(sim, callbacks);
+  coupling::RunResult result;
+  try {
+    result = coupling::run(sim, callbacks);
+  } catch (const std::exception&) {
+    fmt::print(stderr, "settle run: the run failed after {} steps; {} holds the rows written until then, and no "
+               "summary.json was written\n", sim.steps(), (dir / "timeseries.csv").string());
+    throw;
+  }
   const coupling::RunSummary summary = coupling::summarise(sim, result);
   io::write_file_atomically(dir / "summary.json", summary_json(sim, result, summary, warnings).dump(2) + "\n");
   fmt::print(stderr, "settle run: {} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}\n", result.steps,
@@ -148,7 +194,14 @@ void add_run_command(CLI::App& app) {
       ->take_all()
       ->allow_extra_args(false);
   run->add_option("--threads", options->threads, "OpenMP threads (default: all)");
-  run->callback([options] { run_case(*options); });
+  CLI::Option* max_memory = run->add_option(
+      "--max-memory", options->max_memory_gib,
+      "memory budget in GiB for the preflight check (default: MemAvailable of /proc/meminfo); a case whose estimate "
+      "exceeds it is refused before anything is allocated");
+  run->callback([options, max_memory] {
+    options->max_memory_given = max_memory->count() > 0;
+    run_case(*options);
+  });
 }
 
 }  // namespace settle::app

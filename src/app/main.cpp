@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   } catch (const settle::InputError& e) {
     fmt::print(stderr, "settle: error: {}\n", e.what());
     return 2;
+  } catch (const settle::NumericalError& e) {
+    fmt::print(stderr, "settle: run stopped: {}\n", e.what());
+    return 3;
   } catch (const std::exception& e) {
     fmt::print(stderr, "settle: internal error: {}\n", e.what());
     return 1;

@@ -1,6 +1,7 @@
 #pragma once
-// Errors that the user can fix (bad flag, bad case key, unreadable file). The front end
-// prints the message and exits with status 2; everything else is a bug and exits with 1.
+// Errors that the user can fix (bad flag, bad case key, unreadable file): the front end prints
+// the message and exits with status 2. A run that diverged: status 3. Everything else is a bug
+// and exits with 1.
 #include <stdexcept>
 #include <string>
 
@@ -11,6 +12,13 @@ namespace settle {
 class InputError : public std::runtime_error {
  public:
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// A run stopped because its numbers went bad (NaN, Mach or density out of range). The message
+/// names the measured value, the likely cause and the setting to change.
+class NumericalError : public std::runtime_error {
+ public:
+  explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
 };
 
 }  // namespace settle

@@ -6,6 +6,8 @@
 
 #include <fmt/core.h>
 
+#include "common/error.hpp"
+#include "coupling/health.hpp"
 #include "coupling/time_control.hpp"
 
 namespace settle::coupling {
@@ -51,10 +53,17 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_in
   const auto start = Clock::now();
   double next_progress_s = progress_interval_wall_s;
 
-  const auto sample_if_due = [&] {
-    if (!output.due(time.time_si(), time.dt_si())) return;
+  std::string stop_reason;
+  const auto record_sample = [&] {
     result.samples.push_back(take_sample(sim, time.time_si()));
     if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
+    const HealthReport health = check_health(sim);
+    if (!health.problem.empty())
+      throw NumericalError(fmt::format("at t = {:.6g} s (step {}): {}", time.time_si(), time.step(), health.problem));
+    if (callbacks.stop_after_sample) stop_reason = callbacks.stop_after_sample(result.samples.back());
+  };
+  const auto sample_if_due = [&] {
+    if (output.due(time.time_si(), time.dt_si())) record_sample();
   };
 
   sample_if_due();
@@ -68,6 +77,11 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_in
     sim.step();
     time.advance();
     sample_if_due();
+    if (stop_reason.empty() && callbacks.interrupted && callbacks.interrupted()) stop_reason = "interrupted";
+    if (!stop_reason.empty()) {
+      result.stop_reason = stop_reason;
+      break;
+    }
     const double wall = seconds_since(start);
     if (callbacks.on_progress && wall >= next_progress_s) {
       callbacks.on_progress(progress_line(sim, time, wall));
@@ -75,10 +89,7 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_in
     }
   }
   // The final state is always sampled, so that the last row is the end of the run.
-  if (result.samples.empty() || result.samples.back().t_si < time.time_si()) {
-    result.samples.push_back(take_sample(sim, time.time_si()));
-    if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
-  }
+  if (result.samples.empty() || result.samples.back().t_si < time.time_si()) record_sample();
   result.steps = time.step();
   result.simulated_time_si = time.time_si();
   result.wall_seconds = seconds_since(start);

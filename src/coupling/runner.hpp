@@ -38,6 +38,11 @@ Sample take_sample(const Simulation& simulation, double t_si);
 struct RunCallbacks {
   std::function<void(const Sample&)> on_sample;          ///< every output time
   std::function<void(const std::string&)> on_progress;   ///< a progress line every few seconds
+  /// After each sample: a non-empty reason ends the run there (e.g. "terminal_state").
+  std::function<std::string(const Sample&)> stop_after_sample;
+  /// Checked after every step (keep it cheap: an atomic flag set by a signal handler); true ends
+  /// the run after the current step with stop_reason "interrupted".
+  std::function<bool()> interrupted;
 };
 
 struct RunResult {
@@ -45,12 +50,14 @@ struct RunResult {
   double simulated_time_si = 0.0;
   double wall_seconds = 0.0;
   double mlups = 0.0;  ///< million fluid-cell updates per wall second over the whole loop
-  std::string stop_reason;  ///< "end_time" or "reached_boundary"
+  std::string stop_reason;  ///< "end_time", "reached_boundary", "interrupted" or a stop_after_sample reason
   std::vector<Sample> samples;
 };
 
-/// Runs from t = 0 to setup().end_time_si (or until the body reaches the grid's edge),
-/// sampling every setup().output_interval_si.
+/// Runs from t = 0 to setup().end_time_si (or until the body reaches the grid's edge, a callback
+/// stops it, or it is interrupted), sampling every setup().output_interval_si. The numerical
+/// health (coupling/health.hpp) is checked at every sample: settle::NumericalError when it fails,
+/// after the sample has been handed to on_sample.
 RunResult run(Simulation& simulation, const RunCallbacks& callbacks, double progress_interval_wall_s = 5.0);
 
 /// Results of a run. Time averages are over the samples in the second half of the simulated

@@ -30,6 +30,28 @@ class ScopedTimer {
 // Largest cell count we allocate without asking: 2^31 cells is ~300 GB of D3Q19 doubles.
 constexpr double kMaxCells = 2.0e9;
 
+// Default contact distance: the kernel's half-width. The stencil of a point at lattice coordinate
+// x starts at cell floor(x - h) + 1 (ibm::axis_stencil), which stays >= 0 for a point at least
+// h - 1/2 cells above the wall plane at -1/2; the extra half cell takes the overlap of impacts.
+double contact_distance_cells(const SimulationSetup& s) {
+  return s.contact_distance_cells.value_or(ibm::support_half_width(s.kernel));
+}
+
+void check_contact_setup(const SimulationSetup& s) {
+  if (!s.wall_contact) return;
+  if (!(s.contact_restitution > 0.0 && s.contact_restitution <= 1.0))
+    throw InputError(fmt::format("contact.restitution: must be in (0, 1], got {}", s.contact_restitution));
+  if (!(s.contact_collision_steps >= 1.0 && s.contact_collision_steps <= 1.0e4))
+    throw InputError(fmt::format("contact.collision_steps: must be in [1, 1e4] fluid time steps, got {}",
+                                 s.contact_collision_steps));
+  const double minimum = ibm::support_half_width(s.kernel) - 0.5;
+  const double distance = contact_distance_cells(s);
+  if (!(distance >= minimum && distance <= 1.0e3))
+    throw InputError(fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
+                                 "closer to a wall would put its forcing stencil outside the grid), got {}",
+                                 minimum, ibm::to_string(s.kernel), distance));
+}
+
 void check_setup(const SimulationSetup& s) {
   if (!s.shape) throw std::invalid_argument("Simulation: no shape");
   if (!(s.particle_density_si > 0.0)) throw InputError("particle.density: must be > 0");
@@ -38,6 +60,7 @@ void check_setup(const SimulationSetup& s) {
   if (s.motion == body::MotionKind::free && s.body_force_si.norm() > 0.0)
     throw InputError("fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
                      "carried by the driven flow); set it to [0, 0, 0]");
+  check_contact_setup(s);
 }
 
 std::array<int, 3> grid_cells(const SimulationSetup& s, double dx_si) {
@@ -120,7 +143,6 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
                                     units_.kinematic_viscosity_si(), setup_.gravity_si.norm());
   derived_.cells = grid_cells(setup_, units_.dx_si());
   frame_.dx_si = units_.dx_si();
-  box_radius_cells_ = shape.bounding_radius() / units_.dx_si();
 
   lbm::SolverConfig config;
   config.lattice = setup_.lattice;
@@ -137,16 +159,16 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
   // The body and its stencil must start inside the grid: checked before the grid is allocated.
   const Eigen::Vector3d centre = frame_.to_lattice(setup_.initial.position_si);
   window_anchor_ = centre;
-  const CellBox box = box_at(centre);
+  const CellBox box = box_at(centre, setup_.initial.attitude.body_to_inertial());
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
     const int n = derived_.cells[i];
     const bool periodic = setup_.boundaries[i] == lbm::Boundary::periodic;
     if ((periodic && box.extent[i] > n) || (!periodic && (box.origin[i] < 0 || box.origin[i] + box.extent[i] > n)))
       throw InputError(fmt::format(
-          "particle.position: the particle (bounding radius {:.4g} m) and its forcing stencil reach outside the "
-          "domain along {}; move particle.position or enlarge domain.size",
-          shape.bounding_radius(), "xyz"[a]));
+          "particle.position: the particle (width {:.4g} m along {} at its initial orientation) and its forcing "
+          "stencil reach outside the domain; move particle.position or enlarge domain.size",
+          shape.width(setup_.initial.attitude.body_to_inertial().row(a).transpose()), "xyz"[a]));
   }
 
   body::Environment environment{setup_.fluid_density_si, setup_.gravity_si};
@@ -154,27 +176,75 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
                                             setup_.initial, setup_.motion);
   markers_ = make_body_markers(shape, units_.dx_si(), setup_.marker_retraction_cells);
   derived_.marker_count = markers_.size();
+  make_wall_contact();
 
   fluid_ = lbm::make_solver(config);
   fluid_->initialise([](int, int, int) { return lbm::CellState{}; });
   internal_before_ = internal_momentum(*fluid_, current_solid_cells(), centre);
 }
 
-CellBox Simulation::box_at(const Eigen::Vector3d& centre) const {
-  // Markers lie on or inside the surface, so the kernel's half-width (rounded outwards to whole
-  // cells by box_around) covers their stencils; it also covers every cell the surface cuts
-  // (centre within half a diagonal, 0.87 cells, of the surface) for the volume fractions.
-  return box_around(centre, box_radius_cells_, ibm::support_half_width(setup_.kernel));
+CellBox Simulation::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
+  // The body's extent along each grid axis at this attitude (support function, lattice units),
+  // widened to every cell that the delta kernel of a point within that extent touches (first cell
+  // floor(x - h) + 1, `width` cells: ibm::axis_stencil). Markers lie on or inside the surface, so
+  // this holds their stencils, and every cell the body overlaps (the volume fractions). Tighter than
+  // the bounding sphere, so a tilted or flat body can come as close to a wall as its stencils allow.
+  const double h = ibm::support_half_width(setup_.kernel);
+  const int width = ibm::stencil_width(setup_.kernel);
+  CellBox box;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d axis_b = body_to_inertial.row(a).transpose();
+    const double lower = centre[a] - setup_.shape->support(-axis_b) / units_.dx_si();
+    const double upper = centre[a] + setup_.shape->support(axis_b) / units_.dx_si();
+    const int first = static_cast<int>(std::floor(lower - h)) + 1;
+    const int last = static_cast<int>(std::floor(upper - h)) + width;
+    box.origin[static_cast<std::size_t>(a)] = first;
+    box.extent[static_cast<std::size_t>(a)] = last - first + 1;
+  }
+  return box;
+}
+
+void Simulation::make_wall_contact() {
+  if (!setup_.wall_contact || setup_.follow_particle || setup_.motion != body::MotionKind::free) return;
+  // Half-way walls: the faces of the grid, at 0 and cells x dx from the window's corner.
+  std::vector<body::WallPlane> walls;
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    if (setup_.boundaries[i] == lbm::Boundary::periodic) continue;
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
+    walls.push_back({axis, frame_.window_origin_si[a]});
+    walls.push_back({-axis, -(frame_.window_origin_si[a] + derived_.cells[i] * units_.dx_si())});
+  }
+  if (walls.empty()) return;
+  body::ContactParameters parameters;
+  parameters.restitution = setup_.contact_restitution;
+  parameters.collision_time_si = setup_.contact_collision_steps * units_.dt_si();
+  parameters.contact_distance_si = contact_distance_cells(setup_) * units_.dx_si();
+  contact_.emplace(setup_.shape, std::move(walls), parameters);
+
+  // A body starting deeper in the spring than its own weight would press it (twice the static
+  // compression) would be thrown off the wall by the stored energy: refused. Resting on the wall at
+  // zeta - W/k is allowed.
+  const double mass = body_->mass_properties().mass;
+  const double compression = body_->net_weight_si().norm() / body::spring_dashpot(mass, mass, parameters).stiffness;
+  const double gap = contact_->min_gap_si(body_->state());
+  if (gap < parameters.contact_distance_si - 2.0 * compression)
+    throw InputError(fmt::format("particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
+                                 "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring would "
+                                 "throw it off. Move it at least {:.4g} m from the walls",
+                                 gap, gap / units_.dx_si(), contact_distance_cells(setup_),
+                                 parameters.contact_distance_si - compression));
 }
 
 bool Simulation::can_step() const {
   const body::Pose pose = body_->predict_pose(units_.dt_si());
-  return box_fits(box_at(frame_.to_lattice(pose.position_si)), *fluid_);
+  return box_fits(box_at(frame_.to_lattice(pose.position_si), pose.attitude.body_to_inertial()), *fluid_);
 }
 
 SolidCells Simulation::current_solid_cells() const {
   const Eigen::Vector3d centre = frame_.to_lattice(body_->state().position_si);
-  return solid_cells(*setup_.shape, units_.dx_si(), box_at(centre), centre, body_->body_to_inertial());
+  const Eigen::Matrix3d rotation = body_->body_to_inertial();
+  return solid_cells(*setup_.shape, units_.dx_si(), box_at(centre, rotation), centre, rotation);
 }
 
 void Simulation::step() {
@@ -197,7 +267,7 @@ void Simulation::step() {
     const Eigen::Vector3d velocity = state.velocity_si * dt_si / units_.dx_si();
     const Eigen::Vector3d omega_n = rotation * state.angular_velocity_b_si * dt_si;
     markers = place_markers(markers_, centre, rotation, velocity, omega_n);
-    box = box_at(centre);
+    box = box_at(centre, rotation);
     if (!box_fits(box, *fluid_)) throw std::logic_error("Simulation::step: the body left the grid (check can_step)");
   }
 
@@ -236,7 +306,13 @@ void Simulation::step() {
   }
   {
     ScopedTimer timer(timers_, "body_corrector");
-    body_->correct(dt_si, last_.hydrodynamic);
+    if (contact_) {
+      const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic);
+      last_.contact = contact.mean_wrench;
+      last_.wall_gap_si = contact.min_gap_si;
+    } else {
+      body_->correct(dt_si, last_.hydrodynamic);
+    }
   }
   {
     ScopedTimer timer(timers_, "moving_window");

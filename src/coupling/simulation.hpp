@@ -9,7 +9,9 @@
 //     fluid              collide (Guo forcing, second order) and stream
 //  4. hydrodynamic_force minus the marker forces plus the rate of change of the fluid momentum
 //                        inside the body (Kempe and Froehlich 2012), at the predicted pose
-//  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct)
+//  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct),
+//                        plus the particle-wall contact force, sub-stepped, when the body is near a
+//                        wall (body::WallContact; docs/rigid-body.md)
 //  6. moving_window      shift the fluid one cell when the body is a cell off its starting place
 //
 // Coupling choices written down here: the markers move with the velocities of the step's start
@@ -20,6 +22,7 @@
 // Output (step 7) is the runner's business (coupling/runner.hpp), on its own schedule.
 #include <array>
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "body/contact.hpp"
 #include "body/rigid_body.hpp"
 #include "body/shape.hpp"
 #include "coupling/immersed_body.hpp"
@@ -67,6 +71,16 @@ struct SimulationSetup {
   double max_lattice_velocity = 0.05;
   double max_tau = 2.0;
   std::optional<double> tau;
+
+  // Particle-wall contact (body/contact.hpp) with the walls of the non-periodic axes. Off when the
+  // window follows the particle (it then never nears a face: the window keeps it at its start).
+  bool wall_contact = true;
+  double contact_restitution = 0.97;    ///< dry normal restitution e in (0, 1] (glass, steel: ~0.97)
+  double contact_collision_steps = 10.0;  ///< collision time T_c in fluid time steps (Kempe and Froehlich 2012)
+  /// Gap (cells) at which the contact spring starts. Unset: the delta kernel's half-width (1.5 cells
+  /// for roma3, 2 for peskin4), so the surface markers' stencils stay inside the grid at rest and
+  /// under impacts up to several times the expected speed (docs/rigid-body.md).
+  std::optional<double> contact_distance_cells;
 
   double end_time_si = 1.0;
   double output_interval_si = 0.005;
@@ -108,9 +122,18 @@ struct StepObservation {
   body::Wrench internal_rate;    ///< rate of change of the momentum of the fluid inside the body
   double slip_max_si = 0.0;  ///< largest |U - U_body| at the markers after forcing, m/s
   double slip_rms_si = 0.0;
+  /// Particle-wall contact: impulse and angular impulse of the step divided by dt (zero away from
+  /// walls); the body corrector received hydrodynamic + contact.
+  body::Wrench contact;
+  /// Smallest gap between the body and a wall during the step's corrector, m (infinity without
+  /// contact walls).
+  double wall_gap_si = std::numeric_limits<double>::infinity();
 };
 
 class Simulation {
+  /// coupling/checkpoint_state.cpp: gathers the private state into a checkpoint and restores it.
+  friend struct CheckpointAccess;
+
  public:
   /// Converts units and checks the case before allocating anything (settle::InputError naming
   /// the key to change); then builds the fluid, the body and its markers.
@@ -125,6 +148,9 @@ class Simulation {
   const DerivedQuantities& derived() const { return derived_; }
   const UnitConverter& units() const { return units_; }
   const body::RigidBody& body() const { return *body_; }
+  /// The particle-wall contact model; empty without contact walls (setup().wall_contact off, all
+  /// axes periodic, a following window, or a towed or fixed body).
+  const std::optional<body::WallContact>& wall_contact() const { return contact_; }
   const lbm::Solver& fluid() const { return *fluid_; }
   lbm::Solver& fluid() { return *fluid_; }
   const SubstepTimers& timers() const { return timers_; }
@@ -139,7 +165,8 @@ class Simulation {
   SolidCells current_solid_cells() const;
 
  private:
-  CellBox box_at(const Eigen::Vector3d& centre) const;
+  CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const;
+  void make_wall_contact();
   void follow_body();
 
   SimulationSetup setup_;
@@ -149,7 +176,8 @@ class Simulation {
   std::unique_ptr<lbm::Solver> fluid_;
   std::unique_ptr<body::RigidBody> body_;
   BodyMarkers markers_;
-  double box_radius_cells_ = 0.0;
+  /// The particle-wall contact model, when the case has contact walls (stateless: nothing to save).
+  std::optional<body::WallContact> contact_;
   /// Where the moving window holds the body (lattice coordinates): its starting place, so the
   /// case chooses how much fluid lies ahead of the body and how much wake behind it.
   Eigen::Vector3d window_anchor_ = Eigen::Vector3d::Zero();

@@ -1,6 +1,8 @@
 #include "io/case.hpp"
 
+#include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -45,11 +47,31 @@ output_interval = 0.005
 )toml";
 
 std::string read_file(const std::filesystem::path& path) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw InputError(fmt::format("{}: no such case file", path.string()));
+  // An ifstream opens a directory without complaint and reads nothing, which would silently
+  // run the defaults.
+  if (std::filesystem::is_directory(status))
+    throw InputError(fmt::format("{}: is a directory, not a case file (TOML)", path.string()));
   std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open the case file", path.string()));
+  if (!in) throw InputError(fmt::format("{}: cannot open the case file (permission?)", path.string()));
   std::stringstream text;
   text << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: could not read the case file", path.string()));
   return text.str();
+}
+
+// The mesh reader names the file it read, not the case key; a user fixing the case needs both.
+std::unique_ptr<body::Shape> shape_of(const CaseValues& v, const body::ShapeSpec& spec,
+                                      const body::ShapeFactoryOptions& options) {
+  try {
+    return body::make_shape(spec, options);
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    if (spec.shape != "mesh" || message.rfind("particle.", 0) == 0) throw;
+    throw InputError(fmt::format("particle.file = {}: {}", to_toml(v.value("particle.file")), message));
+  }
 }
 
 Eigen::Vector3d vector3(const CaseValues& v, std::string_view key) {
@@ -111,7 +133,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.name = std::move(name);
   body::ShapeFactoryOptions shape_options;
   shape_options.base_directory = base_directory;
-  s.shape = std::shared_ptr<const body::Shape>(body::make_shape(shape_spec(v), shape_options));
+  s.shape = std::shared_ptr<const body::Shape>(shape_of(v, shape_spec(v), shape_options));
   s.particle_density_si = v.real("particle.density");
   s.motion = motion_kind(v.string("particle.motion"));
 

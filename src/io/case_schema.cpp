@@ -44,12 +44,14 @@ std::vector<KeySpec> declare() {
       choice("particle.shape", "sphere",
              {"sphere", "spheroid", "ellipsoid", "cylinder", "cuboid", "superellipsoid", "mesh"}, "particle shape"),
       real("particle.diameter", std::nullopt, "m", positive(), "sphere, spheroid (equatorial) and cylinder diameter"),
-      real("particle.aspect_ratio", std::nullopt, "", positive(),
+      // The shape factory's bound (body/shape_factory.hpp): beyond it no grid resolves the body.
+      real("particle.aspect_ratio", std::nullopt, "", closed(1.0e-3, 1.0e3),
            "spheroid polar / equatorial diameter (> 1 prolate, < 1 oblate)"),
       vector3("particle.semi_axes", std::nullopt, "m", positive(),
               "ellipsoid and superellipsoid semi-axes along body x, y, z"),
+      // Superellipsoid::kMinExponent..kMaxExponent (convex superellipsoids only).
       {"particle.exponents", Kind::RealArray, std::nullopt, "", "superellipsoid exponents e1 (z), e2 (x-y)",
-       closed(0.1, 4.0), {}, 2},
+       closed(0.1, 2.0), {}, 2},
       real("particle.length", std::nullopt, "m", positive(), "cylinder length along body z (a disk is a short cylinder)"),
       vector3("particle.size", std::nullopt, "m", positive(), "cuboid edge lengths along body x, y, z"),
       {"particle.file", Kind::String, std::nullopt, "", "mesh: watertight STL file (relative to the case file)", {}, {}, 0},
@@ -81,9 +83,10 @@ std::vector<KeySpec> declare() {
            "markers sit this far inside the surface (Breugem 2012; 0.4 calibrated for settle, docs/coupling.md)"),
       real("numerics.max_lattice_velocity", Value(0.05), "", {0.0, 0.2, false, true},
            "largest lattice velocity U dt/dx of the expected speed (Mach bound for choosing dt)"),
-      real("numerics.max_tau", Value(2.0), "", {0.5, 5.0, false, true},
+      // tau must exceed the converter's min_tau = 0.501 (coupling/units.hpp).
+      real("numerics.max_tau", Value(2.0), "", {0.501, 5.0, false, true},
            "largest relaxation time when choosing dt"),
-      real("numerics.tau", std::nullopt, "", {0.5, 5.0, false, true},
+      real("numerics.tau", std::nullopt, "", {0.501, 5.0, false, true},
            "relaxation time; when given, dt follows from it instead of the Mach and tau bounds"),
       // [run]
       real("run.end_time", Value(1.0), "s", positive(), "simulated time to run"),

@@ -80,6 +80,42 @@ std::optional<Value> value_from_node(const toml::node& node, Kind kind) {
   return std::nullopt;
 }
 
+// The tables a case may hold ("fluid", "domain", "domain.walls"): every proper prefix of a
+// declared key.
+std::vector<std::string> table_paths(const Schema& schema) {
+  std::vector<std::string> tables;
+  for (const KeySpec& k : schema.keys())
+    for (auto dot = k.path.find('.'); dot != std::string::npos; dot = k.path.find('.', dot + 1)) {
+      std::string prefix = k.path.substr(0, dot);
+      if (std::find(tables.begin(), tables.end(), prefix) == tables.end()) tables.push_back(std::move(prefix));
+    }
+  return tables;
+}
+
+bool is_table_path(const Schema& schema, std::string_view path) {
+  const auto tables = table_paths(schema);
+  return std::find(tables.begin(), tables.end(), path) != tables.end();
+}
+
+// The keys directly under a table, for messages ("x, y, z").
+std::string keys_under(const Schema& schema, const std::string& table) {
+  std::string keys;
+  for (const KeySpec& k : schema.keys())
+    if (k.path.rfind(table + ".", 0) == 0) keys += (keys.empty() ? "" : ", ") + k.path.substr(table.size() + 1);
+  return keys;
+}
+
+std::optional<std::string> suggest_table(const Schema& schema, std::string_view path) {
+  std::optional<std::string> best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  for (const std::string& t : table_paths(schema)) {
+    const std::size_t d = edit_distance(path, t);
+    if (d < best_distance) best_distance = d, best = t;
+  }
+  if (best_distance <= std::max<std::size_t>(2, path.size() / 3)) return best;
+  return std::nullopt;
+}
+
 std::string node_text(const toml::node& node) {
   std::ostringstream out;
   node.visit([&](auto&& n) { out << n; });
@@ -93,8 +129,20 @@ void walk(const toml::table& table, const std::string& prefix, CaseValues& value
     const std::string path = prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
     const KeySpec* spec = values.schema().find(path);
     if (!spec && node.is_table()) {
+      // An unknown table is refused even when empty: "[flud]" with no keys would otherwise
+      // pass silently and leave the user's intended values at their defaults.
+      if (!is_table_path(values.schema(), path)) {
+        std::string message = fmt::format("{}: unknown table [{}]", origin, path);
+        if (auto close = suggest_table(values.schema(), path)) message += fmt::format(" (did you mean [{}]?)", *close);
+        else message += "; see `settle schema` for the tables and keys a case may hold";
+        throw InputError(message);
+      }
       walk(*node.as_table(), path, values, origin);
       continue;
+    }
+    if (!spec && is_table_path(values.schema(), path)) {
+      throw InputError(fmt::format("{}: {} = {}: expected a table with the keys {}", origin, display_key(path),
+                                   node_text(node), keys_under(values.schema(), path)));
     }
     if (!spec) {
       std::string message = fmt::format("{}: unknown key {}", origin, display_key(path));
@@ -119,13 +167,15 @@ bool Range::contains(double v) const {
   return above && below;
 }
 
-std::string Range::describe() const {
+std::string Range::describe(bool integral) const {
+  const auto number = [integral](double v) {
+    return integral ? fmt::format("{}", static_cast<long long>(v)) : format_number(v);
+  };
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
   if (has_min && has_max)
-    return fmt::format("in {}{}, {}{}", min_inclusive ? "[" : "(", format_number(min), format_number(max),
-                       max_inclusive ? "]" : ")");
-  if (has_min) return fmt::format("{} {}", min_inclusive ? ">=" : ">", format_number(min));
-  if (has_max) return fmt::format("{} {}", max_inclusive ? "<=" : "<", format_number(max));
+    return fmt::format("in {}{}, {}{}", min_inclusive ? "[" : "(", number(min), number(max), max_inclusive ? "]" : ")");
+  if (has_min) return fmt::format("{} {}", min_inclusive ? ">=" : ">", number(min));
+  if (has_max) return fmt::format("{} {}", max_inclusive ? "<=" : "<", number(max));
   return "finite";
 }
 
@@ -202,7 +252,7 @@ std::string check_value(const KeySpec& spec, const Value& value) {
     case Kind::Integer: {
       if (!std::holds_alternative<std::int64_t>(value)) return fail(std::string(to_string(spec.kind)));
       const double v = static_cast<double>(std::get<std::int64_t>(value));
-      return spec.range.contains(v) ? "" : fail(spec.range.describe());
+      return spec.range.contains(v) ? "" : fail(spec.range.describe(true));
     }
     case Kind::Real: {
       if (!std::holds_alternative<double>(value)) return fail(std::string(to_string(spec.kind)));
@@ -225,9 +275,10 @@ std::string check_value(const KeySpec& spec, const Value& value) {
       if (spec.array_length > 0 && static_cast<int>(v.size()) != spec.array_length)
         return fail(fmt::format("an array of {} numbers", spec.array_length));
       if (v.empty()) return fail("a non-empty array");
+      const std::string range = spec.range.describe();
       for (double x : v)
         if (!std::isfinite(x) || !spec.range.contains(x))
-          return fail("an array whose elements are finite and " + spec.range.describe());
+          return fail(range == "finite" ? "an array of finite numbers" : "an array whose elements are finite and " + range);
       return "";
     }
   }
@@ -295,27 +346,46 @@ CaseValues parse_case(const Schema& schema, std::string_view toml_text, std::str
 }
 
 void apply_override(CaseValues& values, std::string_view assignment) {
+  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
   const auto eq = assignment.find('=');
-  if (eq == std::string_view::npos || eq == 0)
+  std::string path(assignment.substr(0, eq == std::string_view::npos ? 0 : eq));
+  path.erase(std::remove_if(path.begin(), path.end(), is_space), path.end());
+  if (eq == std::string_view::npos || path.empty())
     throw InputError(fmt::format("--set {}: expected key=value, e.g. --set fluid.density=1000", assignment));
-  std::string path(assignment.substr(0, eq));
-  path.erase(std::remove_if(path.begin(), path.end(), [](char c) { return c == ' '; }), path.end());
-  const std::string document = "v = " + std::string(assignment.substr(eq + 1));
+  const Schema& schema = values.schema();
+  const KeySpec* spec = schema.find(path);
+  if (!spec && is_table_path(schema, path)) {
+    const std::string keys = keys_under(schema, path);
+    throw InputError(fmt::format("--set {}: {} is a table; set its keys ({}) one at a time, e.g. --set {}.{}=...",
+                                 assignment, path, keys, path, keys.substr(0, keys.find(','))));
+  }
+  if (!spec) {
+    // Dotted names here: that is how a key is written on the command line.
+    std::string message = fmt::format("--set: unknown key {}", path);
+    if (auto close = schema.suggest(path)) message += fmt::format(" (did you mean {}?)", *close);
+    else message += "; see `settle schema` for the keys a case may hold";
+    throw InputError(message);
+  }
+  const std::string_view text = assignment.substr(eq + 1);
+  if (std::all_of(text.begin(), text.end(), is_space))
+    throw InputError(fmt::format("--set {}: no value after '='; expected {}", assignment, to_string(spec->kind)));
+  const std::string document = "v = " + std::string(text);
   toml::table table;
   try {
     table = toml::parse(std::string_view(document), std::string_view("--set"));
   } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("--set {}: the value is not valid TOML ({})", assignment, e.description()));
+    if (spec->kind == Kind::String)
+      throw InputError(fmt::format("--set {}: not a TOML value; a string needs double quotes, e.g. --set '{}=\"{}\"'",
+                                   assignment, path, text));
+    throw InputError(fmt::format("--set {}: the value is not valid TOML ({}); expected {}", assignment,
+                                 e.description(), to_string(spec->kind)));
   }
-  const KeySpec* spec = values.schema().find(path);
-  if (!spec) {
-    std::string message = fmt::format("--set: unknown key {}", display_key(path));
-    if (auto close = values.schema().suggest(path)) message += fmt::format(" (did you mean {}?)", *close);
-    throw InputError(message);
-  }
+  // "--set 'a=1\nb=2'" parses as two keys: only one value may follow the '='.
+  if (table.size() != 1)
+    throw InputError(fmt::format("--set {}: expected a single value after '='", assignment));
   auto value = value_from_node(*table.get("v"), spec->kind);
   if (!value)
-    throw InputError(fmt::format("--set {}: expected {}", assignment, to_string(spec->kind)));
+    throw InputError(fmt::format("--set {}: expected {} for {}", assignment, to_string(spec->kind), path));
   values.set(path, std::move(*value), "--set");
 }
 
@@ -347,7 +417,7 @@ std::string schema_markdown(const Schema& schema) {
     if (!k.choices.empty()) {
       for (const auto& c : k.choices) allowed += fmt::format("{}`{}`", allowed.empty() ? "" : ", ", c);
     } else if (k.kind == Kind::Real || k.kind == Kind::Integer || k.kind == Kind::RealArray) {
-      allowed = k.range.describe();
+      allowed = k.range.describe(k.kind == Kind::Integer);
       if (k.kind == Kind::RealArray && k.array_length > 0) allowed = fmt::format("{} numbers, each {}", k.array_length, allowed);
     }
     const std::string default_text = k.default_value ? fmt::format("`{}`", to_toml(*k.default_value)) : "(none)";

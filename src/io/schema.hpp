@@ -25,7 +25,8 @@ struct Range {
   bool min_inclusive = true;
   bool max_inclusive = true;
   bool contains(double v) const;
-  std::string describe() const;  ///< e.g. "> 0", "in [0.5, 2]"
+  /// e.g. "> 0.0", "in (0.5, 2.0]"; with `integral`, bounds without a decimal point ("in [1, 50]").
+  std::string describe(bool integral = false) const;
 };
 
 /// One key of the case file. `path` is the dotted TOML path ("fluid.density",

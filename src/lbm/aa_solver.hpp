@@ -197,6 +197,22 @@ class AaSolver final : public Solver {
 
   std::size_t bytes_per_cell_update() const override { return (2 * Q + 3) * sizeof(Real); }
 
+  FluidState export_state() const override {
+    FluidState state;
+    state.layout = state_layout();
+    state.step_count = steps_;
+    state.populations = std::as_bytes(std::span<const Real>(populations_.data(), populations_.size()));
+    state.forced_cells.reserve(forced_cells_.size());
+    state.forced_values.reserve(3 * forced_cells_.size());
+    for (const std::size_t n : forced_cells_) {
+      state.forced_cells.push_back(n);
+      for (const auto& component : force_) state.forced_values.push_back(static_cast<double>(component[n]));
+    }
+    return state;
+  }
+
+  void import_state(const FluidState& state) override;
+
  private:
   bool odd_parity() const { return (steps_ & 1) != 0; }
   std::size_t slot(int q, std::size_t cell) const {
@@ -374,6 +390,12 @@ class AaSolver final : public Solver {
     return n;
   }
 
+  StateLayout state_layout() const {
+    return {config_.nx,   config_.ny, config_.nz,  Q,
+            static_cast<std::uint32_t>(sizeof(Real)), layout_.x_begin, layout_.sx, layout_.sxy,
+            layout_.pop_stride, populations_.size()};
+  }
+
   SolverConfig config_;
   GridLayout layout_;
   AlignedArray<Real> populations_;
@@ -387,6 +409,40 @@ class AaSolver final : public Solver {
   /// barrier on an oversubscribed machine), so small grids run on the calling thread.
   bool threaded_ = cell_count() >= 16384;
 };
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::import_state(const FluidState& state) {
+  // Everything is checked before anything is written, so a refused state leaves the solver as it was.
+  if (!(state.layout == state_layout())) {
+    throw std::invalid_argument("import_state: the state was saved from a solver with another grid, lattice, "
+                                "precision or memory layout");
+  }
+  if (state.populations.size() != populations_.size() * sizeof(Real)) {
+    throw std::invalid_argument("import_state: population buffer of " + std::to_string(state.populations.size()) +
+                                " bytes, this solver holds " + std::to_string(populations_.size() * sizeof(Real)));
+  }
+  if (state.step_count < 0) throw std::invalid_argument("import_state: negative step count");
+  if (state.forced_values.size() != 3 * state.forced_cells.size()) {
+    throw std::invalid_argument("import_state: forced_values must hold three values per forced cell");
+  }
+  std::vector<std::uint8_t> seen(cell_count(), 0);
+  for (const std::uint64_t n : state.forced_cells) {
+    if (n >= cell_count() || seen[n]) {
+      throw std::invalid_argument("import_state: forced cell index " + std::to_string(n) + " out of range or repeated");
+    }
+    seen[n] = 1;
+  }
+
+  std::memcpy(populations_.data(), state.populations.data(), state.populations.size());
+  steps_ = state.step_count;
+  clear_forces();
+  for (std::size_t k = 0; k < state.forced_cells.size(); ++k) {
+    const auto n = static_cast<std::size_t>(state.forced_cells[k]);
+    forced_flag_[n] = 1;
+    forced_cells_.push_back(n);
+    for (std::size_t a = 0; a < 3; ++a) force_[a][n] = static_cast<Real>(state.forced_values[3 * k + a]);
+  }
+}
 
 template <Lattice L, class Collision, class Real>
 ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {

@@ -37,6 +37,35 @@ struct ShiftMass {
   double entered = 0.0;  ///< mass of the rest-fluid layer that entered
 };
 
+/// How a solver lays out its population buffer (lbm/grid.hpp): a saved state fits a solver only
+/// when these agree, so that a checkpoint from another build or case is refused, not misread.
+struct StateLayout {
+  int nx = 0, ny = 0, nz = 0;
+  int q = 0;                        ///< velocities of the lattice
+  std::uint32_t element_bytes = 0;  ///< storage precision: 4 (float) or 8 (double)
+  std::uint64_t x_begin = 0, sx = 0, sxy = 0, pop_stride = 0;
+  std::uint64_t population_elements = 0;  ///< q * pop_stride
+  bool operator==(const StateLayout&) const = default;
+};
+
+/// The complete mutable state of a solver: with the same SolverConfig, a solver that imports it
+/// steps on bit for bit as the one that exported it (and answers every query the same way).
+struct FluidState {
+  StateLayout layout;
+  /// Steps taken since initialise(); its parity selects the next AA kernel.
+  std::int64_t step_count = 0;
+  /// The raw population buffer in storage precision (f - w, all Q arrays over the padded grid).
+  /// The ghost layer is included: at an odd step_count it holds the boundary copies that the
+  /// next (odd) kernel reads, so it is state, not scratch. A view: valid while the exporting solver
+  /// is alive and unchanged.
+  std::span<const std::byte> populations;
+  /// Cells holding a force written since the last clear_forces() (linear index x + nx (y + ny z)),
+  /// in the order they were first written, and their force density, three values per cell
+  /// (x, y, z). Doubles hold float storage exactly, so the round trip is exact at either precision.
+  std::vector<std::uint64_t> forced_cells;
+  std::vector<double> forced_values;
+};
+
 /// Initial condition: density and velocity of interior cell (x, y, z).
 using InitialField = std::function<CellState(int x, int y, int z)>;
 
@@ -114,6 +143,14 @@ class Solver {
   virtual void clear_forces() = 0;
   /// Number of cells holding a force written since the last clear_forces().
   virtual std::size_t forced_cell_count() const = 0;
+
+  // --- checkpoints
+  /// The complete state (see FluidState); the populations are a view, not a copy.
+  virtual FluidState export_state() const = 0;
+  /// Replaces the state with an exported one. Throws std::invalid_argument when its layout differs
+  /// from this solver's, a size does not match it, or a forced cell is out of range or repeated;
+  /// the solver is unchanged then.
+  virtual void import_state(const FluidState& state) = 0;
 
   /// Bytes moved from/to memory per cell update by the kernel: Q populations read and
   /// written plus the three force components read (storage precision). For the roofline.

@@ -63,7 +63,7 @@ TEST(Schema, ErrorsNameFileKeyValueAndWhatIsAllowed) {
   e = error_of("[particle]\nshape = \"cube\"\n");
   EXPECT_TRUE(contains(e, "\"sphere\", \"spheroid\"")) << e;
   e = error_of("[run]\nsteps = 0\n");
-  EXPECT_TRUE(contains(e, "in [1.0, 1000000.0]")) << e;
+  EXPECT_TRUE(contains(e, "in [1, 1000000]")) << e;  // integer bounds written as integers
   e = error_of("[run]\nstop = 1\n");
   EXPECT_TRUE(contains(e, "boolean")) << e;
   e = error_of("[fluid\ndensity = 1\n");
@@ -78,8 +78,62 @@ TEST(Schema, UnknownKeysAreErrorsWithASuggestion) {
   e = error_of("[particle]\ndensity = 1000.0\n");  // right leaf, wrong table
   EXPECT_TRUE(contains(e, "did you mean [fluid] density?")) << e;
   e = error_of("[something]\ncompletely_different = 1\n");
-  EXPECT_TRUE(contains(e, "unknown key")) << e;
+  EXPECT_TRUE(contains(e, "unknown table [something]")) << e;  // the table is reported before its keys
   EXPECT_FALSE(contains(e, "did you mean")) << e;
+}
+
+TEST(Schema, UnknownTablesAreErrorsEvenWhenEmpty) {
+  std::string e = error_of("[flud]\n");
+  EXPECT_TRUE(contains(e, "case.toml: unknown table [flud]")) << e;
+  EXPECT_TRUE(contains(e, "did you mean [fluid]?")) << e;
+  e = error_of("[domain.wals]\n");
+  EXPECT_TRUE(contains(e, "did you mean [domain.walls]?")) << e;
+  e = error_of("[completely_unrelated]\n");
+  EXPECT_TRUE(contains(e, "unknown table")) << e;
+  EXPECT_FALSE(contains(e, "did you mean")) << e;
+  EXPECT_EQ(error_of("[fluid]\n[domain.walls]\n"), "");  // known tables may be empty
+}
+
+TEST(Schema, AScalarWhereATableBelongsNamesTheTablesKeys) {
+  const std::string e = error_of("[domain]\nwalls = \"periodic\"\n");
+  EXPECT_TRUE(contains(e, "[domain] walls")) << e;
+  EXPECT_TRUE(contains(e, "expected a table with the keys x")) << e;
+}
+
+TEST(Schema, ArraysWithoutARangeSayFinite) {
+  const std::string e = error_of("[fluid]\ngravity = [0.0, nan, 1.0]\n");
+  EXPECT_TRUE(contains(e, "must be an array of finite numbers")) << e;
+}
+
+std::string override_error(const std::string& assignment) {
+  const Schema schema = test_schema();
+  CaseValues v = parse_case(schema, "", "c");
+  try {
+    apply_override(v, assignment);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Schema, OverrideMistakesAreExplained) {
+  EXPECT_TRUE(contains(override_error("fluid.density"), "expected key=value"));
+  EXPECT_TRUE(contains(override_error(" =3"), "expected key=value"));
+  EXPECT_TRUE(contains(override_error("fluid.density=  "), "no value after '='"));
+  std::string e = override_error("particle.shape=spheroid");
+  EXPECT_TRUE(contains(e, "double quotes")) << e;
+  EXPECT_TRUE(contains(e, "--set 'particle.shape=\"spheroid\"'")) << e;
+  e = override_error("fluid.density=1000 x");
+  EXPECT_TRUE(contains(e, "not valid TOML")) << e;
+  EXPECT_TRUE(contains(e, "expected a number")) << e;
+  EXPECT_TRUE(contains(override_error("fluid.density=1000\nrun.steps=3"), "a single value"));
+  e = override_error("domain.walls=\"periodic\"");
+  EXPECT_TRUE(contains(e, "domain.walls is a table")) << e;
+  EXPECT_TRUE(contains(e, "--set domain.walls.x=")) << e;
+  e = override_error("fluid.densty=1");
+  EXPECT_TRUE(contains(e, "unknown key fluid.densty (did you mean fluid.density?)")) << e;
+  EXPECT_TRUE(contains(override_error("run.steps=2.5"), "expected an integer for run.steps"));
+  EXPECT_EQ(override_error("particle.shape=\"spheroid\""), "");
 }
 
 TEST(Schema, OverridesAreCheckedLikeTheFile) {

@@ -1,0 +1,364 @@
+#include "coupling/checkpoint_state.hpp"
+
+#include <optional>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+
+#include <fmt/core.h>
+
+#include "settle/version.hpp"
+
+namespace settle::coupling {
+namespace {
+
+// Section names. Each caller blob is a section of its own, named with this prefix.
+constexpr const char* kVersionSection = "settle/version";
+constexpr const char* kCaseSection = "case/resolved.toml";
+constexpr const char* kFingerprintSection = "simulation/fingerprint";
+constexpr const char* kSimulationSection = "simulation/state";
+constexpr const char* kBodySection = "body/state";
+constexpr const char* kFluidSection = "fluid/state";
+constexpr const char* kPopulationsSection = "fluid/populations";
+constexpr const char* kCallerValuesSection = "caller/values";
+constexpr std::string_view kCallerBlobPrefix = "caller/blob/";
+
+/// One quantity the case fixes: its value (compared exactly) and how to show it to the user.
+struct FingerprintEntry {
+  std::string name;
+  double value = 0.0;
+  std::string shown;
+};
+
+/// The quantities the saved state only makes sense with: a restart into a simulation that
+/// differs in any of them is refused. Run length and output intervals are not among them, so a
+/// finished run can be extended.
+using Fingerprint = std::vector<FingerprintEntry>;
+
+FingerprintEntry number(std::string name, double value) {
+  return {std::move(name), value, fmt::format("{:.17g}", value)};
+}
+
+template <class Enum>
+FingerprintEntry choice(std::string name, Enum value) {
+  return {std::move(name), static_cast<double>(static_cast<int>(value)), lbm::to_string(value)};
+}
+
+Fingerprint fingerprint_of(const Simulation& sim) {
+  const lbm::SolverConfig& c = sim.fluid().config();
+  const SimulationSetup& s = sim.setup();
+  const body::MassProperties& m = sim.body().mass_properties();
+  const std::optional<body::WallContact>& contact = sim.wall_contact();
+  const body::ContactParameters wall = contact ? contact->parameters() : body::ContactParameters{};
+  return {
+      number("grid cells along x", c.nx),
+      number("grid cells along y", c.ny),
+      number("grid cells along z", c.nz),
+      choice("lattice", c.lattice),
+      choice("collision", c.collision),
+      choice("precision", c.precision),
+      choice("boundary along x", c.boundaries[0]),
+      choice("boundary along y", c.boundaries[1]),
+      choice("boundary along z", c.boundaries[2]),
+      number("relaxation time tau", c.tau),
+      number("TRT magic parameter", c.magic),
+      number("fluid body force x (lattice units)", c.body_force.x()),
+      number("fluid body force y (lattice units)", c.body_force.y()),
+      number("fluid body force z (lattice units)", c.body_force.z()),
+      number("dx (m)", sim.units().dx_si()),
+      number("dt (s)", sim.units().dt_si()),
+      number("fluid density (kg/m^3)", s.fluid_density_si),
+      number("gravity x (m/s^2)", s.gravity_si.x()),
+      number("gravity y (m/s^2)", s.gravity_si.y()),
+      number("gravity z (m/s^2)", s.gravity_si.z()),
+      {"particle motion", static_cast<double>(static_cast<int>(s.motion)),
+       s.motion == body::MotionKind::free ? "free" : s.motion == body::MotionKind::towed ? "towed" : "fixed"},
+      number("particle mass (kg)", m.mass),
+      number("particle volume (m^3)", m.volume),
+      number("surface markers", static_cast<double>(sim.derived().marker_count)),
+      number("marker retraction (cells)", s.marker_retraction_cells),
+      number("delta kernel", static_cast<double>(static_cast<int>(s.kernel))),
+      number("forcing iterations", s.forcing_iterations),
+      {"moving window (domain.follow_particle)", s.follow_particle ? 1.0 : 0.0, s.follow_particle ? "true" : "false"},
+      {"particle-wall contact", contact ? 1.0 : 0.0, contact ? "on" : "off"},
+      number("contact restitution", contact ? wall.restitution : 0.0),
+      number("contact collision time (s)", contact ? wall.collision_time_si : 0.0),
+      number("contact distance (m)", contact ? wall.contact_distance_si : 0.0),
+      number("contact substeps per collision", contact ? wall.substeps_per_collision : 0),
+  };
+}
+
+std::vector<std::byte> encode_fingerprint(const Fingerprint& fingerprint) {
+  io::RecordWriter out;
+  out.u64(fingerprint.size());
+  for (const FingerprintEntry& e : fingerprint) {
+    out.string(e.name);
+    out.f64(e.value);
+    out.string(e.shown);
+  }
+  return out.take();
+}
+
+Fingerprint decode_fingerprint(std::span<const std::byte> data) {
+  io::RecordReader in(data, kFingerprintSection);
+  Fingerprint fingerprint;
+  // No reserve from the stored count: a malformed count fails at the first read past the end.
+  for (std::uint64_t n = in.u64(); n > 0; --n) {
+    FingerprintEntry e;
+    e.name = in.string();
+    e.value = in.f64();
+    e.shown = in.string();
+    fingerprint.push_back(std::move(e));
+  }
+  in.expect_end();
+  return fingerprint;
+}
+
+void write_wrench(io::RecordWriter& out, const body::Wrench& w) {
+  out.vec3(w.force_si);
+  out.vec3(w.torque_si);
+}
+
+body::Wrench read_wrench(io::RecordReader& in) {
+  body::Wrench w;
+  w.force_si = in.vec3();
+  w.torque_si = in.vec3();
+  return w;
+}
+
+std::vector<std::byte> encode_body(const body::RigidBodyState& s) {
+  io::RecordWriter out;
+  out.vec3(s.position_si);
+  out.vec3(s.velocity_si);
+  out.u32(static_cast<std::uint32_t>(s.attitude.set()));
+  out.vec3(s.attitude.angles());
+  out.vec3(s.angular_velocity_b_si);
+  return out.take();
+}
+
+body::RigidBodyState decode_body(std::span<const std::byte> data) {
+  io::RecordReader in(data, kBodySection);
+  body::RigidBodyState s;
+  s.position_si = in.vec3();
+  s.velocity_si = in.vec3();
+  const std::uint32_t set = in.u32();
+  if (set != 1 && set != 2) throw io::CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", kBodySection, set));
+  const Eigen::Vector3d angles = in.vec3();
+  s.attitude = attitude::Attitude(static_cast<attitude::EulerSet>(set), angles);
+  s.angular_velocity_b_si = in.vec3();
+  in.expect_end();
+  if (!s.position_si.allFinite() || !s.velocity_si.allFinite() || !angles.allFinite() ||
+      !s.angular_velocity_b_si.allFinite())
+    throw io::CheckpointError(fmt::format("checkpoint section '{}': the body state is not finite", kBodySection));
+  return s;
+}
+
+std::vector<std::byte> encode_fluid(const lbm::FluidState& f) {
+  io::RecordWriter out;
+  const lbm::StateLayout& l = f.layout;
+  for (const int n : {l.nx, l.ny, l.nz, l.q}) out.i64(n);
+  out.u32(l.element_bytes);
+  for (const std::uint64_t n : {l.x_begin, l.sx, l.sxy, l.pop_stride, l.population_elements}) out.u64(n);
+  out.i64(f.step_count);
+  out.u64(f.forced_cells.size());
+  for (const std::uint64_t n : f.forced_cells) out.u64(n);
+  for (const double v : f.forced_values) out.f64(v);
+  return out.take();
+}
+
+/// The fluid record; the populations view is filled in from its own section.
+lbm::FluidState decode_fluid(std::span<const std::byte> data) {
+  io::RecordReader in(data, kFluidSection);
+  lbm::FluidState f;
+  lbm::StateLayout& l = f.layout;
+  for (int* n : {&l.nx, &l.ny, &l.nz, &l.q}) *n = static_cast<int>(in.i64());
+  l.element_bytes = in.u32();
+  for (std::uint64_t* n : {&l.x_begin, &l.sx, &l.sxy, &l.pop_stride, &l.population_elements}) *n = in.u64();
+  f.step_count = in.i64();
+  for (std::uint64_t n = in.u64(); n > 0; --n) f.forced_cells.push_back(in.u64());
+  for (std::size_t k = 0; k < 3 * f.forced_cells.size(); ++k) f.forced_values.push_back(in.f64());
+  in.expect_end();
+  return f;
+}
+
+std::vector<std::byte> encode_values(const std::map<std::string, double>& values) {
+  io::RecordWriter out;
+  out.u64(values.size());
+  for (const auto& [name, value] : values) {
+    out.string(name);
+    out.f64(value);
+  }
+  return out.take();
+}
+
+std::map<std::string, double> decode_values(std::span<const std::byte> data) {
+  io::RecordReader in(data, kCallerValuesSection);
+  std::map<std::string, double> values;
+  for (std::uint64_t n = in.u64(); n > 0; --n) {
+    std::string name = in.string();
+    values[std::move(name)] = in.f64();
+  }
+  in.expect_end();
+  return values;
+}
+
+std::string text_of(std::span<const std::byte> data) {
+  return {reinterpret_cast<const char*>(data.data()), data.size()};
+}
+
+/// The fingerprint of the simulation must equal the saved one entry by entry.
+void check_fingerprint(const Fingerprint& saved, const Fingerprint& current, const std::filesystem::path& file) {
+  const auto refuse = [&](const std::string& what) {
+    throw io::CheckpointError(fmt::format("{}: the checkpoint was written for another case: {}; restart with the "
+                                          "resolved case stored in the checkpoint",
+                                          file.string(), what));
+  };
+  for (const FingerprintEntry& now : current) {
+    const FingerprintEntry* before = nullptr;
+    for (const FingerprintEntry& e : saved)
+      if (e.name == now.name) before = &e;
+    if (!before) refuse(fmt::format("it records no {}", now.name));
+    // Exact comparison: the same resolved case on the same build reproduces every value bit for
+    // bit, and anything else would not continue the run bit for bit.
+    if (!(before->value == now.value))
+      refuse(fmt::format("{} is {} in the checkpoint and {} in this simulation", now.name, before->shown, now.shown));
+  }
+  if (saved.size() != current.size()) refuse("it records quantities this version of settle does not know");
+}
+
+}  // namespace
+
+/// The private members of Simulation that a checkpoint holds (friend of Simulation).
+struct CheckpointAccess {
+  static std::vector<std::byte> encode(const Simulation& sim) {
+    io::RecordWriter out;
+    out.i64(sim.steps_);
+    out.f64(static_cast<double>(sim.steps_) * sim.units_.dt_si());
+    out.vec3(sim.frame_.window_origin_si);
+    out.f64(sim.frame_.dx_si);
+    out.vec3(sim.window_anchor_);
+    out.vec3(sim.internal_before_.linear);
+    out.vec3(sim.internal_before_.angular);
+    write_wrench(out, sim.last_.hydrodynamic);
+    write_wrench(out, sim.last_.marker_reaction);
+    write_wrench(out, sim.last_.internal_rate);
+    out.f64(sim.last_.slip_max_si);
+    out.f64(sim.last_.slip_rms_si);
+    write_wrench(out, sim.last_.contact);
+    out.f64(sim.last_.wall_gap_si);
+    out.u64(sim.timers_.entries().size());
+    for (const auto& [name, seconds] : sim.timers_.entries()) {
+      out.string(name);
+      out.f64(seconds);
+    }
+    return out.take();
+  }
+
+  /// The decoded record, applied only after every check has passed.
+  struct Saved {
+    std::int64_t steps = 0;
+    double time_si = 0.0;
+    LatticeFrame frame;
+    Eigen::Vector3d window_anchor = Eigen::Vector3d::Zero();
+    FluidMomentum internal_before;
+    StepObservation last;
+    std::vector<std::pair<std::string, double>> timers;
+  };
+
+  static Saved decode(std::span<const std::byte> data) {
+    io::RecordReader in(data, kSimulationSection);
+    Saved s;
+    s.steps = in.i64();
+    s.time_si = in.f64();
+    s.frame.window_origin_si = in.vec3();
+    s.frame.dx_si = in.f64();
+    s.window_anchor = in.vec3();
+    s.internal_before.linear = in.vec3();
+    s.internal_before.angular = in.vec3();
+    s.last.hydrodynamic = read_wrench(in);
+    s.last.marker_reaction = read_wrench(in);
+    s.last.internal_rate = read_wrench(in);
+    s.last.slip_max_si = in.f64();
+    s.last.slip_rms_si = in.f64();
+    s.last.contact = read_wrench(in);
+    s.last.wall_gap_si = in.f64();
+    for (std::uint64_t n = in.u64(); n > 0; --n) {
+      std::string name = in.string();
+      s.timers.emplace_back(std::move(name), in.f64());
+    }
+    in.expect_end();
+    if (s.steps < 0) throw io::CheckpointError(fmt::format("checkpoint section '{}': negative step count", kSimulationSection));
+    return s;
+  }
+
+  static void apply(Simulation& sim, const Saved& s, const body::RigidBodyState& body) {
+    sim.body_->set_state(body);
+    sim.steps_ = s.steps;
+    sim.frame_ = s.frame;
+    sim.window_anchor_ = s.window_anchor;
+    sim.internal_before_ = s.internal_before;
+    sim.last_ = s.last;
+    sim.timers_ = SubstepTimers{};
+    for (const auto& [name, seconds] : s.timers) sim.timers_.add(name.c_str(), seconds);
+  }
+};
+
+void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller, const std::filesystem::path& file) {
+  const lbm::FluidState fluid = sim.fluid().export_state();
+  io::CheckpointWriter writer;
+  {
+    io::RecordWriter version;
+    version.string(version_string);
+    writer.add_copy(kVersionSection, version.take());
+  }
+  writer.add_view(kCaseSection, std::as_bytes(std::span(caller.resolved_case)));
+  writer.add_copy(kFingerprintSection, encode_fingerprint(fingerprint_of(sim)));
+  writer.add_copy(kSimulationSection, CheckpointAccess::encode(sim));
+  writer.add_copy(kBodySection, encode_body(sim.body().state()));
+  writer.add_copy(kFluidSection, encode_fluid(fluid));
+  writer.add_view(kPopulationsSection, fluid.populations);
+  writer.add_copy(kCallerValuesSection, encode_values(caller.values));
+  for (const auto& [name, blob] : caller.blobs) writer.add_view(std::string(kCallerBlobPrefix) + name, blob);
+  writer.write(file);
+}
+
+SimulationCheckpoint::SimulationCheckpoint(const std::filesystem::path& file) : file_(file) {
+  // Every record is decoded once here, so that a malformed one is refused before the caller
+  // builds a simulation; restore() decodes them again (they are small).
+  written_by_ = io::RecordReader(file_.section(kVersionSection), kVersionSection).string();
+  caller_.resolved_case = text_of(file_.section(kCaseSection));
+  caller_.values = decode_values(file_.section(kCallerValuesSection));
+  for (const std::string& name : file_.section_names())
+    if (name.starts_with(kCallerBlobPrefix)) {
+      const auto data = file_.section(name);
+      caller_.blobs[name.substr(kCallerBlobPrefix.size())] = std::vector<std::byte>(data.begin(), data.end());
+    }
+  decode_fingerprint(file_.section(kFingerprintSection));
+  decode_body(file_.section(kBodySection));
+  decode_fluid(file_.section(kFluidSection));
+  const CheckpointAccess::Saved saved = CheckpointAccess::decode(file_.section(kSimulationSection));
+  steps_ = saved.steps;
+  time_si_ = saved.time_si;
+}
+
+void SimulationCheckpoint::restore(Simulation& sim) const {
+  check_fingerprint(decode_fingerprint(file_.section(kFingerprintSection)), fingerprint_of(sim), file_.path());
+  const CheckpointAccess::Saved saved = CheckpointAccess::decode(file_.section(kSimulationSection));
+  const body::RigidBodyState body = decode_body(file_.section(kBodySection));
+  lbm::FluidState fluid = decode_fluid(file_.section(kFluidSection));
+  fluid.populations = file_.section(kPopulationsSection);
+  if (!(fluid.layout == sim.fluid().export_state().layout))
+    throw io::CheckpointError(fmt::format("{}: the fluid's memory layout differs from this build's (written by "
+                                          "settle {}); restart with the settle that wrote it",
+                                          file_.path().string(), written_by_));
+  // The solver checks the whole state before it writes anything, so a refusal leaves the
+  // simulation unchanged; nothing after it can fail (the body state was checked finite above).
+  try {
+    sim.fluid().import_state(fluid);
+  } catch (const std::invalid_argument& e) {
+    throw io::CheckpointError(fmt::format("{}: {}", file_.path().string(), e.what()));
+  }
+  CheckpointAccess::apply(sim, saved, body);
+}
+
+}  // namespace settle::coupling

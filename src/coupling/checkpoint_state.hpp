@@ -1,0 +1,81 @@
+#pragma once
+// The whole state of a coupled simulation in a checkpoint file (io/checkpoint.hpp), and its
+// restoration into a freshly built Simulation, so that a run of N + M steps and a run of N steps,
+// a checkpoint, a restart and M steps end bit for bit alike (same build, same thread count).
+//
+// What is saved: everything Simulation::step() and the queries after it depend on that is not
+// rebuilt identically from the case:
+//  - the fluid: the raw population buffer in storage precision with its ghost layer, the step
+//    count (the AA parity) and the per-cell forces of the last step (lbm::FluidState);
+//  - the body: position, velocity, body angular velocity and the attitude chart (the active Euler
+//    set and its three angles, so the integrator continues in the same set);
+//  - the coupling: step count, the moving window's origin and anchor, the momentum of the fluid
+//    inside the body at the end of the last step (the next step's force needs its rate of
+//    change), the last step's observation (forces, slip, contact) and the sub-step timers;
+//  - a fingerprint of what the case determines (grid, lattice, precision, boundaries, dx, dt, tau,
+//    body force, gravity, motion kind, mass, markers, forcing, wall contact), checked on restore;
+//  - the caller's data: the resolved case text, named numbers and named blobs (the run loop's
+//    output schedule, accumulators, samples), stored as given.
+// Not saved: what the case rebuilds exactly (units, markers, shape, copy lists, the particle-wall
+// contact model, which keeps no state between steps), and the rigid body's switch_count() (a
+// diagnostic that RigidBody cannot set; it restarts from 0).
+//
+// Restarting (the run loop's recipe): open the checkpoint (SimulationCheckpoint), read the resolved
+// case text from caller().resolved_case, build the Simulation from it as at a fresh start, call
+// restore(), hand the caller's values back to the loop, continue stepping.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coupling/simulation.hpp"
+#include "io/checkpoint.hpp"
+
+namespace settle::coupling {
+
+/// What the run loop stores beside the simulation; settle writes and returns it unchanged.
+struct CheckpointCallerData {
+  /// The resolved case (case.resolved.toml) the simulation was built from.
+  std::string resolved_case;
+  /// Named numbers (exact bits), e.g. an output schedule's next index.
+  std::map<std::string, double> values;
+  /// Named opaque records (e.g. accumulators serialised with io::RecordWriter).
+  std::map<std::string, std::vector<std::byte>> blobs;
+};
+
+/// Writes the simulation's state and the caller's data to `file` atomically (io/checkpoint.hpp:
+/// the previous file stays whole until the new one is complete). Throws io::CheckpointError on an
+/// I/O failure.
+void write_checkpoint(const Simulation& simulation, const CheckpointCallerData& caller,
+                      const std::filesystem::path& file);
+
+/// A checkpoint opened and verified (every CRC-32 checked, every record decoded), ready to restore.
+class SimulationCheckpoint {
+ public:
+  /// Throws io::CheckpointError naming the file and the fault (missing, truncated, corrupt,
+  /// other format version, malformed record).
+  explicit SimulationCheckpoint(const std::filesystem::path& file);
+
+  const CheckpointCallerData& caller() const { return caller_; }
+  /// Coupled steps taken when the checkpoint was written, and the simulated time steps x dt.
+  std::int64_t steps() const { return steps_; }
+  double time_si() const { return time_si_; }
+  /// settle version that wrote the file (informational).
+  const std::string& written_by() const { return written_by_; }
+
+  /// Puts the saved state into `simulation`, which must have been built from the same case (the
+  /// fingerprint is compared first: io::CheckpointError names the first quantity that differs, and
+  /// the simulation is left unchanged). Can be called on several simulations.
+  void restore(Simulation& simulation) const;
+
+ private:
+  io::CheckpointFile file_;
+  CheckpointCallerData caller_;
+  std::int64_t steps_ = 0;
+  double time_si_ = 0.0;
+  std::string written_by_;
+};
+
+}  // namespace settle::coupling

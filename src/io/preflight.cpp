@@ -1,0 +1,466 @@
+#include "io/preflight.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#include "coupling/runner.hpp"
+#include "common/error.hpp"
+#include "ibm/delta.hpp"
+#include "lbm/grid.hpp"
+#include "lbm/lattice.hpp"
+
+namespace settle::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+constexpr double kMiB = 1024.0 * 1024.0;
+constexpr std::size_t kPageBytes = 4096;
+constexpr char kAxis[] = "xyz";
+
+std::string bytes_text(double bytes) {
+  if (bytes >= kGiB) return fmt::format("{:.3g} GiB", bytes / kGiB);
+  if (bytes >= kMiB) return fmt::format("{:.3g} MiB", bytes / kMiB);
+  return fmt::format("{:.3g} KiB", bytes / 1024.0);
+}
+
+double page_rounded(double bytes) { return std::ceil(bytes / kPageBytes) * kPageBytes; }
+
+// ---- 1. numbers -------------------------------------------------------------------------
+
+void require_finite(double value, std::string_view key) {
+  if (!std::isfinite(value)) throw InputError(fmt::format("{}: must be finite, got {}", key, value));
+}
+void require_finite(const Eigen::Vector3d& value, std::string_view key) {
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(value[a]))
+      throw InputError(fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1],
+                                   value[2]));
+}
+void require_positive(double value, std::string_view key) {
+  if (!(std::isfinite(value) && value > 0.0)) throw InputError(fmt::format("{}: must be finite and > 0, got {}", key, value));
+}
+
+void check_numbers(const coupling::SimulationSetup& s) {
+  if (!s.shape) throw std::invalid_argument("preflight: the set-up has no shape");
+  require_positive(s.particle_density_si, "particle.density");
+  require_positive(s.fluid_density_si, "fluid.density");
+  require_positive(s.dynamic_viscosity_si, "fluid.dynamic_viscosity");
+  require_finite(s.gravity_si, "fluid.gravity");
+  require_finite(s.body_force_si, "fluid.body_force");
+  for (int a = 0; a < 3; ++a) require_positive(s.domain_size_si[a], "domain.size");
+  require_finite(s.initial.position_si, "particle.position");
+  require_finite(s.initial.velocity_si, "particle.velocity");
+  require_finite(s.initial.angular_velocity_b_si, "particle.angular_velocity");
+  require_positive(s.cells_per_diameter, "numerics.cells_per_diameter");
+  require_finite(s.marker_retraction_cells, "numerics.marker_retraction");
+  require_positive(s.max_lattice_velocity, "numerics.max_lattice_velocity");
+  require_positive(s.max_tau, "numerics.max_tau");
+  if (s.tau) require_positive(*s.tau, "numerics.tau");
+  require_positive(s.end_time_si, "run.end_time");
+  require_finite(s.output_interval_si, "run.output_interval");
+  require_positive(s.shape->equivalent_diameter(), "particle (its volume-equivalent diameter)");
+}
+
+// ---- 2. units -----------------------------------------------------------------------------
+
+// Mirrors check_setup and converter_for of coupling/simulation.cpp (they are file-local there):
+// the same UnitInputs, so the converter refuses here exactly what it would refuse there.
+coupling::UnitConverter checked_units(const coupling::SimulationSetup& s) {
+  if (s.forcing_iterations < 1)
+    throw InputError(fmt::format("numerics.forcing_iterations: must be >= 1, got {}", s.forcing_iterations));
+  if (s.motion == body::MotionKind::free && s.body_force_si.norm() > 0.0)
+    throw InputError("fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
+                     "carried by the driven flow); set it to [0, 0, 0]");
+  coupling::UnitInputs in;
+  in.equivalent_diameter_si = s.shape->equivalent_diameter();
+  in.cells_per_diameter = s.cells_per_diameter;
+  in.fluid_density_si = s.fluid_density_si;
+  in.dynamic_viscosity_si = s.dynamic_viscosity_si;
+  in.expected_speed_si = coupling::expected_speed_si(s);
+  in.max_lattice_velocity = s.max_lattice_velocity;
+  in.max_tau = s.max_tau;
+  in.tau = s.tau;
+  const coupling::UnitConverter units = coupling::make_unit_converter(in);
+  // The converter picks dt so that these hold; a second look guards against a change there that
+  // would let an unsafe dt through (and against NaN from extreme inputs).
+  require_positive(units.dt_si(), "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
+  const double u = units.velocity(in.expected_speed_si);
+  if (!(u <= s.max_lattice_velocity * (1.0 + 1e-12)))
+    throw InputError(fmt::format("numerics.max_lattice_velocity: the expected speed {:.4g} m/s is {:.4g} in lattice "
+                                 "units (Mach {:.3g}) with dt = {:.4g} s, above the bound {}",
+                                 in.expected_speed_si, u, coupling::mach_number(u), units.dt_si(), s.max_lattice_velocity));
+  return units;
+}
+
+// ---- 4. grid and memory ---------------------------------------------------------------------
+
+void check_grid_size(const GridExtent& grid, double dx_si, const Eigen::Vector3d& domain_size_si, double estimate_bytes) {
+  for (int a = 0; a < 3; ++a) {
+    const double n = grid.cells[static_cast<std::size_t>(a)];
+    if (n < 4.0)
+      throw InputError(fmt::format("domain.size: {:.4g} m along {} is {} cells of dx = {:.4g} m; at least 4 are needed "
+                                   "(raise domain.size or numerics.cells_per_diameter)",
+                                   domain_size_si[a], kAxis[a], n, dx_si));
+  }
+  if (grid.total() > kMaxGridCells)
+    throw InputError(fmt::format(
+        "numerics.cells_per_diameter: the grid would be {:.4g} x {:.4g} x {:.4g} = {:.3g} cells of dx = {:.4g} m (about "
+        "{} of memory), more than the {:.0e} cells settle allocates; lower numerics.cells_per_diameter or domain.size",
+        grid.cells[0], grid.cells[1], grid.cells[2], grid.total(), dx_si, bytes_text(estimate_bytes), kMaxGridCells));
+}
+
+// Bytes of the lattice parts for a grid too large to lay out: Q + 3 values per cell.
+double rough_grid_bytes(const GridExtent& grid, const coupling::SimulationSetup& s) {
+  const double q = s.lattice == lbm::LatticeKind::D3Q27 ? 27.0 : 19.0;
+  const double real = s.precision == lbm::Precision::float32 ? 4.0 : 8.0;
+  return grid.total() * ((q + 3.0) * real + 1.0);
+}
+
+template <class L>
+double links_of(const std::array<int, 3>& n) {
+  const double total = static_cast<double>(n[0]) * n[1] * n[2];
+  double links = 0.0;
+  for (int i = 1; i < L::Q; ++i) {
+    double inside = 1.0;
+    for (int a = 0; a < 3; ++a)
+      inside *= std::max(0, n[static_cast<std::size_t>(a)] - std::abs(L::set.c[i][static_cast<std::size_t>(a)]));
+    links += total - inside;
+  }
+  return links;
+}
+
+// ---- 5. the particle in the domain ------------------------------------------------------------
+
+void check_centre_inside(const Eigen::Vector3d& p, const std::array<double, 3>& extent_si) {
+  for (int a = 0; a < 3; ++a)
+    if (p[a] < 0.0 || p[a] > extent_si[static_cast<std::size_t>(a)])
+      throw InputError(fmt::format("particle.position: the centre's {} = {:.4g} m lies outside the domain [0, {:.4g}] m",
+                                   kAxis[a], p[a], extent_si[static_cast<std::size_t>(a)]));
+}
+
+void check_width(const FaceClearance& c, const std::array<double, 3>& extent_si, double dx_si,
+                 const coupling::SimulationSetup& s) {
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (c.width_si[a] < extent_si[a]) continue;
+    const bool periodic = s.boundaries[a] == lbm::Boundary::periodic;
+    throw InputError(fmt::format(
+        "domain.size: the particle is {:.4g} m wide along {} at its initial attitude (particle.euler) but the domain is "
+        "only {:.4g} m ({:.0f} cells of dx = {:.4g} m){}; enlarge domain.size along {}",
+        c.width_si[a], kAxis[a], extent_si[a], extent_si[a] / dx_si, dx_si,
+        periodic ? ", and periodic: the particle would overlap its own image" : "", kAxis[a]));
+  }
+}
+
+void check_walls_clear(const FaceClearance& c, const std::array<double, 3>& extent_si, const coupling::SimulationSetup& s) {
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (s.boundaries[a] == lbm::Boundary::periodic) continue;
+    const double lowest = c.lower_si[a], highest = extent_si[a] - c.upper_si[a];
+    if (c.lower_si[a] < 0.0)
+      throw InputError(fmt::format("particle.position: the particle overlaps the wall at {} = 0: at its initial attitude "
+                                   "it reaches down to {} = {:.4g} m; move it at least {:.4g} m further in",
+                                   kAxis[a], kAxis[a], lowest, -c.lower_si[a]));
+    if (c.upper_si[a] < 0.0)
+      throw InputError(fmt::format("particle.position: the particle overlaps the wall at {} = {:.4g} m: at its initial "
+                                   "attitude it reaches up to {} = {:.4g} m; move it at least {:.4g} m further in",
+                                   kAxis[a], extent_si[a], kAxis[a], highest, -c.upper_si[a]));
+  }
+}
+
+// Mirrors the Simulation constructor's check (coupling/simulation.cpp, Simulation::box_at, a
+// private member): per grid axis, the body's extent at its attitude (support function) widened
+// to every cell the delta kernel of a point in that extent touches, first cell floor(x - h) + 1
+// and `stencil_width` cells (ibm::axis_stencil), must lie in the grid; along a periodic axis it
+// must span no more cells than the grid.
+void check_stencil_room(const coupling::SimulationSetup& s, double dx_si, const std::array<double, 3>& cells) {
+  const double h = ibm::support_half_width(s.kernel);
+  const int width = ibm::stencil_width(s.kernel);
+  const Eigen::Vector3d centre = s.initial.position_si / dx_si - Eigen::Vector3d::Constant(0.5);
+  const Eigen::Matrix3d rotation = s.initial.attitude.body_to_inertial();
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    const Eigen::Vector3d axis_b = rotation.row(a).transpose();
+    const double lower = centre[a] - s.shape->support(-axis_b) / dx_si;
+    const double upper = centre[a] + s.shape->support(axis_b) / dx_si;
+    const int first = static_cast<int>(std::floor(lower - h)) + 1;
+    const int last = static_cast<int>(std::floor(upper - h)) + width;
+    const int n = static_cast<int>(cells[i]);
+    if (s.boundaries[i] == lbm::Boundary::periodic) {
+      if (last - first + 1 > n)
+        throw InputError(fmt::format(
+            "domain.size: along {} the periodic domain is {} cells, but the particle and its forcing stencil span {} "
+            "cells; enlarge domain.size along {}",
+            kAxis[a], n, last - first + 1, kAxis[a]));
+      continue;
+    }
+    // Wall planes at lattice -1/2 and n - 1/2: the body's surface must keep h - 1/2 cells
+    // (bottom) and width - h - 1/2 cells (top) of fluid between itself and the wall.
+    const bool at_lower = first < 0;
+    if (!at_lower && last <= n - 1) continue;
+    const double gap_cells = at_lower ? lower + 0.5 : (n - 0.5) - upper;
+    const double needed_cells = at_lower ? h - 0.5 : width - h - 0.5;
+    throw InputError(fmt::format(
+        "particle.position: at its initial attitude the particle's surface is {:.4g} m from the wall at {} = {:.4g} m, "
+        "but the immersed-boundary forcing stencil needs at least {:.4g} m ({:g} cell{}) of fluid there; move "
+        "particle.position or enlarge domain.size",
+        gap_cells * dx_si, kAxis[a], at_lower ? 0.0 : cells[i] * dx_si, needed_cells * dx_si, needed_cells,
+        needed_cells == 1.0 ? "" : "s"));
+  }
+}
+
+// ---- 6. markers and steps ---------------------------------------------------------------------
+
+void check_markers(double markers, double dx_si) {
+  if (markers > kMaxMarkers)
+    throw InputError(fmt::format(
+        "numerics.cells_per_diameter: about {:.3g} surface markers at dx = {:.4g} m, more than the {:.0e} settle builds "
+        "(their construction alone would need over a gigabyte); lower numerics.cells_per_diameter",
+        markers, dx_si, kMaxMarkers));
+}
+
+double checked_steps(const coupling::SimulationSetup& s, double dt_si) {
+  const double steps = std::ceil(s.end_time_si / dt_si);
+  if (!(steps <= kMaxSteps))
+    throw InputError(fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
+                                 "count; lower run.end_time",
+                                 s.end_time_si, steps, dt_si));
+  return std::max(1.0, steps);
+}
+
+// Rows kept in RunResult::samples: one at t = 0, one per output time, and the final state.
+double sample_count(const coupling::SimulationSetup& s, double steps) {
+  const double per_interval = s.output_interval_si > 0.0 ? std::floor(s.end_time_si / s.output_interval_si) : steps;
+  return std::min(steps, per_interval) + 2.0;
+}
+
+std::vector<std::string> advisories(const coupling::SimulationSetup& s, double dx_si, double dt_si) {
+  std::vector<std::string> out;
+  const body::Aabb box = s.shape->bounding_box();
+  const double thinnest_cells = (box.upper - box.lower).minCoeff() / dx_si;
+  if (thinnest_cells < 2.0)
+    out.push_back(fmt::format("numerics.cells_per_diameter: the particle is {:.2g} cells thick along its thinnest body "
+                              "axis; below 2 cells the immersed boundary smears it out (raise "
+                              "numerics.cells_per_diameter)",
+                              thinnest_cells));
+  if (s.end_time_si < dt_si)
+    out.push_back(fmt::format("run.end_time: {} s is shorter than one time step (dt = {:.4g} s); the run makes one step",
+                              s.end_time_si, dt_si));
+  if (s.output_interval_si > 0.0 && s.output_interval_si < dt_si)
+    out.push_back(fmt::format("run.output_interval: {} s is shorter than one time step (dt = {:.4g} s); a row is "
+                              "written every step",
+                              s.output_interval_si, dt_si));
+  return out;
+}
+
+// Empty when the process may create entries in `dir`, else the reason (root passes permission
+// bits, but not a read-only file system).
+std::string write_refusal(const fs::path& dir) {
+  if (::access(dir.c_str(), W_OK | X_OK) == 0) return "";
+  return std::strerror(errno);
+}
+
+}  // namespace
+
+GridExtent grid_extent(const Eigen::Vector3d& domain_size_si, double dx_si) {
+  GridExtent g;
+  for (int a = 0; a < 3; ++a) g.cells[static_cast<std::size_t>(a)] = std::round(domain_size_si[a] / dx_si);
+  return g;
+}
+
+double MemoryEstimate::total_bytes() const {
+  return populations_bytes + force_bytes + flag_bytes + boundary_links_bytes + body_bytes + output_bytes;
+}
+
+double boundary_link_count(const std::array<int, 3>& cells, lbm::LatticeKind lattice) {
+  return lattice == lbm::LatticeKind::D3Q27 ? links_of<lbm::D3Q27>(cells) : links_of<lbm::D3Q19>(cells);
+}
+
+MemoryEstimate estimate_memory(const MemoryInputs& in) {
+  const int q = in.lattice == lbm::LatticeKind::D3Q27 ? lbm::D3Q27::Q : lbm::D3Q19::Q;
+  const std::size_t real = in.precision == lbm::Precision::float32 ? 4 : 8;
+  const double cells = static_cast<double>(in.cells[0]) * in.cells[1] * in.cells[2];
+  const lbm::GridLayout layout = lbm::make_layout(in.cells[0], in.cells[1], in.cells[2], real, q);
+  MemoryEstimate m;
+  // lbm::AaSolver: one page-aligned array of Q x pop_stride values, three of one value per cell.
+  m.populations_bytes = page_rounded(static_cast<double>(layout.pop_stride) * q * static_cast<double>(real));
+  m.force_bytes = 3.0 * page_rounded(cells * static_cast<double>(real));
+  m.flag_bytes = cells;
+  m.boundary_links_bytes = 2.0 * sizeof(lbm::CopyEntry) * boundary_link_count(in.cells, in.lattice);
+  // Approximation: per cell of the body's box, the local grid (7 doubles), the solid-cell list
+  // (cell, fraction, kind) and the forced-cell index, about 100 bytes; per marker, the ~20
+  // clustering patches of 56 bytes its construction holds (body/shape.cpp), about 1200 bytes.
+  m.body_bytes = 100.0 * in.body_box_cells + 1200.0 * in.markers;
+  m.output_bytes = in.samples * static_cast<double>(sizeof(coupling::Sample)) +
+                   (in.velocity_field_per_sample ? 3.0 * sizeof(double) * cells : 0.0);
+  return m;
+}
+
+std::optional<double> parse_mem_available(std::string_view text) {
+  std::istringstream in{std::string(text)};
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("MemAvailable:", 0) != 0) continue;
+    std::istringstream fields(line.substr(13));
+    double value = 0.0;
+    std::string unit;
+    if (!(fields >> value) || value < 0.0) return std::nullopt;
+    fields >> unit;
+    if (unit == "kB" || unit == "KB" || unit == "kb") return value * 1024.0;  // /proc uses kB for KiB
+    if (unit.empty()) return value;
+    return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+std::optional<double> available_memory_bytes() {
+  std::ifstream file("/proc/meminfo");
+  if (!file) return std::nullopt;
+  std::stringstream text;
+  text << file.rdbuf();
+  return parse_mem_available(text.str());
+}
+
+void check_memory(const MemoryEstimate& m, double budget_bytes, std::string_view budget_source) {
+  const double total = m.total_bytes();
+  if (total <= budget_bytes) return;
+  // Name the key whose change helps most: the kept samples when they dominate, else the grid.
+  const bool samples_dominate = m.output_bytes > 0.5 * total;
+  throw InputError(fmt::format(
+      "{}: the run needs about {} of memory (fluid {}, outputs {}) but the budget is {} ({}); {}, or raise "
+      "the budget with settle run --max-memory GIB",
+      samples_dominate ? "run.output_interval" : "numerics.cells_per_diameter", bytes_text(total),
+      bytes_text(m.populations_bytes + m.force_bytes + m.flag_bytes + m.boundary_links_bytes),
+      bytes_text(m.output_bytes), bytes_text(budget_bytes), budget_source,
+      samples_dominate ? "raise run.output_interval (fewer rows kept)" : "lower numerics.cells_per_diameter or domain.size"));
+}
+
+FaceClearance face_clearance(const body::Shape& shape, const Eigen::Vector3d& position_si,
+                             const Eigen::Matrix3d& body_to_inertial, const Eigen::Vector3d& extent_si) {
+  FaceClearance c;
+  for (int a = 0; a < 3; ++a) {
+    // The support function of the body along the inertial axis, evaluated in the body frame.
+    const Eigen::Vector3d axis_b = body_to_inertial.transpose().col(a);
+    const double up = shape.support(axis_b), down = shape.support(-axis_b);
+    const auto i = static_cast<std::size_t>(a);
+    c.lower_si[i] = position_si[a] - down;
+    c.upper_si[i] = extent_si[a] - (position_si[a] + up);
+    c.width_si[i] = up + down;
+  }
+  return c;
+}
+
+void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, const std::array<double, 3>& cells) {
+  const std::array<double, 3> extent_si{cells[0] * dx_si, cells[1] * dx_si, cells[2] * dx_si};
+  const FaceClearance clearance =
+      face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(),
+                     Eigen::Vector3d(extent_si[0], extent_si[1], extent_si[2]));
+  check_centre_inside(s.initial.position_si, extent_si);
+  check_width(clearance, extent_si, dx_si, s);
+  check_walls_clear(clearance, extent_si, s);
+  check_stencil_room(s, dx_si, cells);
+}
+
+void check_net_weight(const coupling::SimulationSetup& s) {
+  if (s.motion != body::MotionKind::free) return;
+  const double excess_density = s.particle_density_si - s.fluid_density_si;
+  if (excess_density == 0.0 || s.gravity_si.norm() == 0.0) return;
+  const bool heavy = excess_density > 0.0;
+  for (int a = 0; a < 3; ++a) {
+    if (s.boundaries[static_cast<std::size_t>(a)] != lbm::Boundary::periodic || s.gravity_si[a] == 0.0) continue;
+    const bool drifts_up = (heavy ? s.gravity_si[a] : -s.gravity_si[a]) > 0.0;
+    throw InputError(fmt::format(
+        "domain.walls.{}: a free particle {} than the fluid (particle.density = {} kg/m^3, fluid.density = {} kg/m^3) "
+        "{} along {}{} under fluid.gravity, and the domain is periodic along {}: nothing carries its net weight, so "
+        "fluid and particle would accelerate without bound. Use \"no-slip\" or \"free-slip\" along {} (with "
+        "domain.follow_particle = true for a long path), or particle.motion = \"fixed\" or \"towed\"",
+        kAxis[a], heavy ? "heavier" : "lighter", s.particle_density_si, s.fluid_density_si,
+        heavy ? "sinks" : "rises", drifts_up ? "+" : "-", kAxis[a], kAxis[a], kAxis[a]));
+  }
+}
+
+void check_output_directory(const fs::path& dir, std::string_view flag) {
+  std::error_code error;
+  const fs::path target = dir.empty() ? fs::path(".") : dir;
+  const fs::file_status status = fs::status(target, error);
+  if (fs::exists(status)) {
+    if (!fs::is_directory(status))
+      throw InputError(fmt::format("{} {}: exists and is not a directory", flag, target.string()));
+    if (const std::string why = write_refusal(target); !why.empty())
+      throw InputError(fmt::format("{} {}: the directory is not writable ({})", flag, target.string(), why));
+    return;
+  }
+  // The nearest ancestor that exists must be a directory we may create entries in.
+  fs::path ancestor = target.parent_path();
+  while (!ancestor.empty() && !fs::exists(fs::status(ancestor, error))) ancestor = ancestor.parent_path();
+  if (ancestor.empty()) ancestor = target.is_absolute() ? target.root_path() : fs::path(".");
+  if (!fs::is_directory(fs::status(ancestor, error)))
+    throw InputError(fmt::format("{} {}: cannot be created: {} is not a directory", flag, target.string(), ancestor.string()));
+  if (const std::string why = write_refusal(ancestor); !why.empty())
+    throw InputError(fmt::format("{} {}: cannot be created: {} is not writable ({})", flag, target.string(),
+                                 ancestor.string(), why));
+}
+
+std::string PreflightReport::summary() const {
+  const std::string budget = memory_budget_bytes
+                                 ? fmt::format("budget {}, {}", bytes_text(*memory_budget_bytes), memory_budget_source)
+                                 : std::string("available memory unknown");
+  return fmt::format("grid {}x{}x{} = {:.3g} cells, {:.4g} steps, about {:.3g} markers; memory estimate {} ({})",
+                     cells[0], cells[1], cells[2], cell_count, steps, markers, bytes_text(memory.total_bytes()), budget);
+}
+
+PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOptions& options) {
+  check_numbers(s);
+  const coupling::UnitConverter units = checked_units(s);
+  check_net_weight(s);
+
+  PreflightReport r;
+  r.dx_si = units.dx_si();
+  r.dt_si = units.dt_si();
+  r.tau = units.tau();
+  r.expected_speed_si = coupling::expected_speed_si(s);
+  r.mach = coupling::mach_number(units.velocity(r.expected_speed_si));
+
+  const GridExtent grid = grid_extent(s.domain_size_si, r.dx_si);
+  r.cell_count = grid.total();
+  check_grid_size(grid, r.dx_si, s.domain_size_si, rough_grid_bytes(grid, s));
+  for (std::size_t a = 0; a < 3; ++a) r.cells[a] = static_cast<int>(grid.cells[a]);
+
+  check_particle_in_domain(s, r.dx_si, grid.cells);
+  r.markers = s.shape->surface_area() / (r.dx_si * r.dx_si);
+  check_markers(r.markers, r.dx_si);
+  r.steps = checked_steps(s, r.dt_si);
+
+  MemoryInputs memory;
+  memory.cells = r.cells;
+  memory.lattice = s.lattice;
+  memory.precision = s.precision;
+  const double box_side = 2.0 * (s.shape->bounding_radius() / r.dx_si + ibm::support_half_width(s.kernel)) + 2.0;
+  memory.body_box_cells = box_side * box_side * box_side;
+  memory.markers = r.markers;
+  memory.samples = sample_count(s, r.steps);
+  memory.velocity_field_per_sample = s.motion == body::MotionKind::fixed;
+  r.memory = estimate_memory(memory);
+  if (options.memory_budget_bytes) {
+    r.memory_budget_bytes = options.memory_budget_bytes;
+    r.memory_budget_source = "--max-memory";
+  } else if (const auto available = available_memory_bytes()) {
+    r.memory_budget_bytes = available;
+    r.memory_budget_source = "MemAvailable in /proc/meminfo";
+  }
+  if (r.memory_budget_bytes) check_memory(r.memory, *r.memory_budget_bytes, r.memory_budget_source);
+
+  if (!options.output_directory.empty()) check_output_directory(options.output_directory);
+  r.warnings = advisories(s, r.dx_si, r.dt_si);
+  return r;
+}
+
+}  // namespace settle::io

@@ -1,0 +1,26 @@
+// Validation (label `validation`): Stokes drag of prolate (gamma = 2) and oblate (gamma = 0.5)
+// spheroids, axial and transverse, at 16 cells per volume-equivalent diameter, in periodic boxes of
+// 3 and 4 d_v extrapolated to an unbounded fluid (periodic_spheroid.hpp), against the exact values.
+#include <gtest/gtest.h>
+
+#include "periodic_spheroid.hpp"
+
+namespace {
+
+using namespace settle::coupling::testing;
+
+void check(double gamma, DragDirection direction) {
+  const SpheroidDragCheck c = check_spheroid_drag(gamma, direction, 16.0, 48, 64);
+  // Steady: the transient left in K is a thirtieth of the budget or less.
+  EXPECT_LT(c.small_box.last_relative_change, 1e-3);
+  EXPECT_LT(c.large_box.last_relative_change, 1e-3);
+  // The criterion: 3% of the exact Stokes drag once the box is removed.
+  EXPECT_NEAR(c.relative_error, 0.0, 0.03);
+}
+
+TEST(SpheroidDragValidation, ProlateAxial) { check(2.0, DragDirection::axial); }
+TEST(SpheroidDragValidation, ProlateTransverse) { check(2.0, DragDirection::transverse); }
+TEST(SpheroidDragValidation, OblateAxial) { check(0.5, DragDirection::axial); }
+TEST(SpheroidDragValidation, OblateTransverse) { check(0.5, DragDirection::transverse); }
+
+}  // namespace

@@ -1,0 +1,356 @@
+// The preflight checks (io/preflight.hpp): the memory estimate against the memory a real solver
+// takes, the boundary-link count against the solver's copy lists, the particle's clearance
+// against closed forms, the mirrored checks against the Simulation constructor they mirror, and
+// the rules for net weight, memory budgets and output directories.
+#include <malloc.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "attitude/attitude.hpp"
+#include "body/cuboid.hpp"
+#include "body/ellipsoid.hpp"
+#include "common/error.hpp"
+#include "coupling/simulation.hpp"
+#include "io/preflight.hpp"
+#include "lbm/grid.hpp"
+#include "lbm/lattice.hpp"
+#include "lbm/solver.hpp"
+
+namespace settle::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// A 1 mm sphere, 8 cells per diameter, in a 4 x 4 x 6 mm box with walls: 32 x 32 x 48 cells.
+coupling::SimulationSetup small_setup() {
+  coupling::SimulationSetup s;
+  s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::sphere(1.0e-3));
+  s.particle_density_si = 1100.0;
+  s.domain_size_si = {4.0e-3, 4.0e-3, 6.0e-3};
+  s.initial.position_si = {2.0e-3, 2.0e-3, 3.0e-3};
+  s.cells_per_diameter = 8.0;
+  s.end_time_si = 1.0e-3;
+  s.output_interval_si = 5.0e-4;
+  return s;
+}
+
+// ---- memory ---------------------------------------------------------------------------------
+
+// Resident set size of this process, bytes (/proc/self/statm: pages).
+double resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  double size_pages = 0.0, resident_pages = 0.0;
+  statm >> size_pages >> resident_pages;
+  return resident_pages * static_cast<double>(::sysconf(_SC_PAGESIZE));
+}
+
+double measured_solver_bytes(const lbm::SolverConfig& config) {
+  const double before = resident_bytes();
+  auto solver = lbm::make_solver(config);
+  solver->initialise([](int, int, int) { return lbm::CellState{}; });
+  return resident_bytes() - before;
+}
+
+TEST(MemoryEstimate, MatchesTheResidentMemoryOfARealSolver) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer replaces malloc (redzones, quarantine): resident memory is not the solver's";
+#endif
+  // Large blocks always through mmap, so a freed block (the copy lists' vectors grow by
+  // doubling) returns to the system and a resident page belongs to a live allocation; one
+  // thread, so no thread stacks join the measurement.
+  ASSERT_EQ(mallopt(M_MMAP_THRESHOLD, 128 * 1024), 1);
+  omp_set_num_threads(1);
+  lbm::SolverConfig warm_up;
+  warm_up.nx = warm_up.ny = warm_up.nz = 8;
+  measured_solver_bytes(warm_up);  // first-use allocations of the runtime stay out of the figure
+
+  struct Case {
+    std::array<int, 3> cells;
+    lbm::LatticeKind lattice;
+    lbm::Precision precision;
+    std::array<lbm::Boundary, 3> boundaries;
+  };
+  const Case cases[] = {
+      {{64, 64, 64}, lbm::LatticeKind::D3Q19, lbm::Precision::float64,
+       {lbm::Boundary::no_slip, lbm::Boundary::no_slip, lbm::Boundary::no_slip}},
+      {{40, 56, 72}, lbm::LatticeKind::D3Q27, lbm::Precision::float32,
+       {lbm::Boundary::periodic, lbm::Boundary::free_slip, lbm::Boundary::no_slip}},
+  };
+  for (const Case& c : cases) {
+    lbm::SolverConfig config;
+    config.nx = c.cells[0], config.ny = c.cells[1], config.nz = c.cells[2];
+    config.lattice = c.lattice;
+    config.precision = c.precision;
+    config.boundaries = c.boundaries;
+    const double measured = measured_solver_bytes(config);
+    MemoryInputs in;
+    in.cells = c.cells;
+    in.lattice = c.lattice;
+    in.precision = c.precision;
+    const MemoryEstimate m = estimate_memory(in);
+    const double fluid = m.populations_bytes + m.force_bytes + m.flag_bytes + m.boundary_links_bytes;
+    // The estimate counts the solver's arrays; what it leaves out is the solver object, the
+    // partly used pages of the copy lists' vectors and small heap blocks below the mmap
+    // threshold: about 100 KiB against 30-50 MiB (measured: 0.24% and 0.06% below). The smallest
+    // term, the flag byte per cell, is 0.6% (D3Q19 double) and 0.8% (D3Q27 float) of the total,
+    // so 0.5% is met only if every array is counted.
+    EXPECT_NEAR(fluid / measured, 1.0, 0.005) << "estimate " << fluid << " B, measured " << measured << " B";
+    RecordProperty("estimate_over_measured_" + std::to_string(c.cells[0]), std::to_string(fluid / measured));
+  }
+}
+
+TEST(MemoryEstimate, BoundaryLinksCountedInClosedFormEqualTheSolversCopyLists) {
+  const lbm::GridLayout layout = lbm::make_layout(5, 6, 7, sizeof(double), lbm::D3Q19::Q);
+  const std::array<lbm::Boundary, 3> walls{lbm::Boundary::no_slip, lbm::Boundary::periodic, lbm::Boundary::free_slip};
+  const auto lists19 = lbm::build_copy_lists<lbm::D3Q19>(layout, walls);
+  EXPECT_EQ(boundary_link_count({5, 6, 7}, lbm::LatticeKind::D3Q19), static_cast<double>(lists19.fill.size()));
+  EXPECT_EQ(lists19.fill.size(), lists19.fold.size());
+  const lbm::GridLayout layout27 = lbm::make_layout(9, 4, 5, sizeof(float), lbm::D3Q27::Q);
+  const auto lists27 = lbm::build_copy_lists<lbm::D3Q27>(layout27, walls);
+  EXPECT_EQ(boundary_link_count({9, 4, 5}, lbm::LatticeKind::D3Q27), static_cast<double>(lists27.fill.size()));
+}
+
+TEST(MemoryEstimate, MemAvailableIsReadInKibibytes) {
+  const std::string meminfo = "MemTotal:       24000000 kB\nMemFree:        22000000 kB\nMemAvailable:   22864016 kB\n";
+  ASSERT_TRUE(parse_mem_available(meminfo));
+  EXPECT_EQ(*parse_mem_available(meminfo), 22864016.0 * 1024.0);  // integers below 2^53: exact
+  EXPECT_FALSE(parse_mem_available("MemTotal: 1 kB\n"));
+  EXPECT_FALSE(parse_mem_available("MemAvailable: lots\n"));
+}
+
+TEST(MemoryEstimate, ABudgetBelowTheEstimateIsRefusedNamingTheKeyThatHelps) {
+  MemoryEstimate grid_heavy;
+  grid_heavy.populations_bytes = 2.0e9;
+  grid_heavy.output_bytes = 1.0e6;
+  EXPECT_NO_THROW(check_memory(grid_heavy, 2.1e9, "test"));
+  std::string e = error_of([&] { check_memory(grid_heavy, 1.0e9, "--max-memory"); });
+  EXPECT_TRUE(contains(e, "numerics.cells_per_diameter")) << e;
+  EXPECT_TRUE(contains(e, "1.86 GiB")) << e;  // the estimate, 2.001e9 B
+  EXPECT_TRUE(contains(e, "--max-memory")) << e;
+
+  MemoryEstimate rows_heavy;
+  rows_heavy.populations_bytes = 1.0e6;
+  rows_heavy.output_bytes = 5.0e9;
+  e = error_of([&] { check_memory(rows_heavy, 1.0e9, "MemAvailable"); });
+  EXPECT_TRUE(contains(e, "run.output_interval")) << e;
+}
+
+// ---- the particle in the domain ---------------------------------------------------------------
+
+TEST(FaceClearance, RotatedCuboidAndEllipsoidMatchClosedForms) {
+  // Cuboid a x b x c turned by psi about z: its width along x is a |cos psi| + b |sin psi|.
+  const double a = 2.0, b = 0.5, c = 0.3, psi = 0.3;
+  const body::Cuboid cuboid(Eigen::Vector3d(a, b, c));
+  const Eigen::Vector3d p(3.0, 4.0, 5.0), extent(10.0, 10.0, 10.0);
+  const Eigen::Matrix3d turn_z = attitude::Attitude::from_set1(psi, 0.0, 0.0).body_to_inertial();
+  FaceClearance f = face_clearance(cuboid, p, turn_z, extent);
+  const double half_x = 0.5 * (a * std::cos(psi) + b * std::sin(psi));
+  const double half_y = 0.5 * (a * std::sin(psi) + b * std::cos(psi));
+  // Support functions of analytic shapes are closed forms: agreement to round-off (1e-12).
+  EXPECT_NEAR(f.width_si[0], 2.0 * half_x, 1e-12);
+  EXPECT_NEAR(f.lower_si[0], p.x() - half_x, 1e-12);
+  EXPECT_NEAR(f.upper_si[1], extent.y() - p.y() - half_y, 1e-12);
+  EXPECT_NEAR(f.width_si[2], c, 1e-12);
+
+  // Ellipsoid turned by theta about y: its half-width along x is sqrt(a^2 cos^2 + c^2 sin^2).
+  const double theta = 0.7;
+  const body::Ellipsoid ellipsoid(Eigen::Vector3d(1.5, 0.8, 0.4));
+  const Eigen::Matrix3d turn_y = attitude::Attitude::from_set1(0.0, theta, 0.0).body_to_inertial();
+  f = face_clearance(ellipsoid, p, turn_y, extent);
+  const double hx = std::hypot(1.5 * std::cos(theta), 0.4 * std::sin(theta));
+  const double hz = std::hypot(1.5 * std::sin(theta), 0.4 * std::cos(theta));
+  EXPECT_NEAR(f.lower_si[0], p.x() - hx, 1e-12);
+  EXPECT_NEAR(f.upper_si[2], extent.z() - p.z() - hz, 1e-12);
+  EXPECT_NEAR(f.width_si[1], 1.6, 1e-12);
+}
+
+bool simulation_accepts(const coupling::SimulationSetup& s) {
+  try {
+    coupling::Simulation sim(s);
+  } catch (const InputError&) {
+    return false;
+  }
+  return true;
+}
+
+bool preflight_accepts(const coupling::SimulationSetup& s) {
+  try {
+    preflight(s);
+  } catch (const InputError&) {
+    return false;
+  }
+  return true;
+}
+
+TEST(ParticleInDomain, PreflightAcceptsExactlyWhatTheSimulationAcceptsNearAWall) {
+  // The mirror of the Simulation constructor's stencil check, scanned across the threshold (for
+  // Roma's kernel the surface must keep one cell of fluid from the floor: the centre of this
+  // 4-cell-radius sphere at 5 cells or more) on a small grid so each Simulation costs milliseconds.
+  // Towed at rest: the rule is the same for every motion, and a free body near a wall also meets
+  // the wall-contact model's own start check (Simulation::make_wall_contact, stricter, not
+  // mirrored by preflight), which would hide this one.
+  coupling::SimulationSetup s = small_setup();
+  s.motion = body::MotionKind::towed;
+  const double dx = 1.0e-3 / 8.0;
+  int refused = 0;
+  for (double cells = 3.0; cells <= 8.0; cells += 0.25) {
+    s.initial.position_si = {2.0e-3, 2.0e-3, cells * dx};
+    const bool expected = simulation_accepts(s);
+    EXPECT_EQ(preflight_accepts(s), expected) << "centre " << cells << " cells above the floor";
+    refused += expected ? 0 : 1;
+    s.initial.position_si = {2.0e-3, 2.0e-3, 6.0e-3 - cells * dx};
+    EXPECT_EQ(preflight_accepts(s), simulation_accepts(s)) << "centre " << cells << " cells below the lid";
+  }
+  EXPECT_GT(refused, 0);  // the scan crossed the threshold
+  EXPECT_LT(refused, 21);
+
+  // A tilted prolate spheroid (its extent along z depends on the attitude) along x and z.
+  s = small_setup();
+  s.motion = body::MotionKind::towed;
+  s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::spheroid(0.8e-3, 2.0));
+  s.initial.attitude = attitude::Attitude::from_set1(0.3, 0.5, 0.0);
+  refused = 0;
+  for (double cells = 2.0; cells <= 10.0; cells += 0.25) {
+    s.initial.position_si = {cells * dx, 2.0e-3, cells * dx};
+    const bool expected = simulation_accepts(s);
+    EXPECT_EQ(preflight_accepts(s), expected) << "tilted spheroid, centre " << cells << " cells from two walls";
+    refused += expected ? 0 : 1;
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_LT(refused, 33);
+}
+
+TEST(ParticleInDomain, OverlapTooWideAndOutsideAreNamed) {
+  coupling::SimulationSetup s = small_setup();
+  s.initial.position_si = {2.0e-3, 2.0e-3, 0.4e-3};
+  std::string e = error_of([&] { preflight(s); });
+  EXPECT_TRUE(contains(e, "particle.position: the particle overlaps the wall at z = 0")) << e;
+  EXPECT_TRUE(contains(e, "-0.0001 m")) << e;  // lowest point 0.4 mm - 0.5 mm
+
+  s = small_setup();
+  s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::sphere(7.0e-3));
+  s.domain_size_si = {6.0e-3, 6.0e-3, 8.0e-3};  // 7 x 7 x 9 cells of 0.875 mm: 6.125 mm across
+  e = error_of([&] { preflight(s); });
+  EXPECT_TRUE(contains(e, "domain.size: the particle is 0.007 m wide along x")) << e;
+  EXPECT_TRUE(contains(e, "7 cells")) << e;
+
+  s = small_setup();
+  s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
+  s.initial.position_si = {5.0e-3, 2.0e-3, 3.0e-3};
+  e = error_of([&] { preflight(s); });
+  EXPECT_TRUE(contains(e, "particle.position: the centre's x")) << e;
+}
+
+// ---- net weight ----------------------------------------------------------------------------------
+
+TEST(NetWeight, ADriftingParticleNeedsWallsAlongGravity) {
+  coupling::SimulationSetup s = small_setup();
+  s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::no_slip};
+  EXPECT_NO_THROW(check_net_weight(s));  // periodic sideways: gravity has no component there
+
+  s.particle_density_si = 900.0;  // buoyant under a wall: rises to the lid, the run stops there
+  EXPECT_NO_THROW(check_net_weight(s));
+
+  s.boundaries[2] = lbm::Boundary::periodic;
+  std::string e = error_of([&] { check_net_weight(s); });
+  EXPECT_TRUE(contains(e, "domain.walls.z")) << e;
+  EXPECT_TRUE(contains(e, "rises along +z")) << e;
+
+  s.particle_density_si = 1100.0;
+  e = error_of([&] { check_net_weight(s); });
+  EXPECT_TRUE(contains(e, "sinks along -z")) << e;
+
+  s.gravity_si = {-9.81, 0.0, 0.0};  // gravity along x, x periodic too
+  s.boundaries[2] = lbm::Boundary::no_slip;
+  e = error_of([&] { check_net_weight(s); });
+  EXPECT_TRUE(contains(e, "domain.walls.x")) << e;
+  EXPECT_TRUE(contains(e, "sinks along -x")) << e;
+
+  s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic};
+  s.particle_density_si = s.fluid_density_si;  // neutrally buoyant: no net weight
+  EXPECT_NO_THROW(check_net_weight(s));
+  s.particle_density_si = 1100.0;
+  s.motion = body::MotionKind::fixed;  // held in place: the body carries it
+  EXPECT_NO_THROW(check_net_weight(s));
+}
+
+// ---- the mirrored numbers and the report -------------------------------------------------------
+
+TEST(Preflight, ReportsTheGridAndStepTheSimulationUses) {
+  const coupling::SimulationSetup s = small_setup();
+  const PreflightReport r = preflight(s);
+  const coupling::Simulation sim(s);
+  // Same inputs to the same converter: identical numbers, not merely close.
+  EXPECT_EQ(r.dx_si, sim.derived().dx_si);
+  EXPECT_EQ(r.dt_si, sim.derived().dt_si);
+  EXPECT_EQ(r.tau, sim.derived().tau);
+  EXPECT_EQ(r.mach, sim.derived().mach);
+  EXPECT_EQ(r.cells, sim.derived().cells);
+  // The surface-area estimate of the marker count used for the 1e6 bound: the Fibonacci
+  // markers of a sphere have about one cell^2 each, so within 10% of area / dx^2.
+  EXPECT_NEAR(r.markers / static_cast<double>(sim.derived().marker_count), 1.0, 0.1);
+  EXPECT_TRUE(contains(r.summary(), "grid 32x32x48")) << r.summary();
+}
+
+TEST(Preflight, NonFiniteNumbersInACodeBuiltSetupAreNamed) {
+  coupling::SimulationSetup s = small_setup();
+  s.gravity_si.z() = std::nan("");
+  EXPECT_TRUE(contains(error_of([&] { preflight(s); }), "fluid.gravity"));
+  s = small_setup();
+  s.initial.velocity_si.x() = INFINITY;
+  EXPECT_TRUE(contains(error_of([&] { preflight(s); }), "particle.velocity"));
+}
+
+TEST(Preflight, AnExplicitBudgetReplacesMemAvailable) {
+  const coupling::SimulationSetup s = small_setup();
+  PreflightOptions options;
+  options.memory_budget_bytes = 1024.0 * 1024.0;  // 1 MiB, far below the ~15 MiB the grid needs
+  const std::string e = error_of([&] { preflight(s, options); });
+  EXPECT_TRUE(contains(e, "(--max-memory)")) << e;
+  options.memory_budget_bytes = 1024.0 * 1024.0 * 1024.0;
+  EXPECT_EQ(preflight(s, options).memory_budget_source, "--max-memory");
+}
+
+// ---- output directory ----------------------------------------------------------------------------
+
+TEST(OutputDirectory, CreatableOrWritableDirectoriesPassAndNothingIsCreated) {
+  const fs::path root = fs::temp_directory_path() / ("settle_preflight_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root);
+  EXPECT_NO_THROW(check_output_directory(root));
+  EXPECT_NO_THROW(check_output_directory(root / "a" / "b"));
+  EXPECT_FALSE(fs::exists(root / "a"));  // checked, not created
+
+  std::ofstream(root / "file.txt") << "x";
+  EXPECT_TRUE(contains(error_of([&] { check_output_directory(root / "file.txt"); }), "exists and is not a directory"));
+  EXPECT_TRUE(contains(error_of([&] { check_output_directory(root / "file.txt" / "run"); }), "is not a directory"));
+  if (::geteuid() != 0) {  // root ignores permission bits
+    fs::permissions(root, fs::perms::owner_read | fs::perms::owner_exec, fs::perm_options::replace);
+    EXPECT_TRUE(contains(error_of([&] { check_output_directory(root / "run"); }), "not writable"));
+    fs::permissions(root, fs::perms::owner_all, fs::perm_options::replace);
+  }
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace settle::io
