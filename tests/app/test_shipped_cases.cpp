@@ -172,9 +172,8 @@ TEST(ShippedGrain, ShapeReadsTheMeshBackWithTheGeneratorsFigures) {
   const double d_eq = std::cbrt(6.0 * kGrainVolume / std::numbers::pi);
   EXPECT_NEAR(shape.at("sphericity").get<double>(), std::numbers::pi * d_eq * d_eq / kGrainArea, 2e-9);
 
-  // A grain, not a sphere: Wadell's sphericity is below 1 (the isoperimetric inequality) and the
-  // Corey factor of this sand-like grain lies in the range of natural sands (Dietrich 1982 fitted
-  // 0.2 to 1; docs/cases.md).
+  // A grain, not a sphere: Wadell's sphericity is below 1 (the isoperimetric inequality), and the
+  // Corey factor lies in the range of Dietrich's 1982 fit for natural sediment (>= 0.2).
   EXPECT_LT(shape.at("sphericity").get<double>(), 1.0);
   EXPECT_GT(shape.at("corey_shape_factor").get<double>(), 0.2);
 }

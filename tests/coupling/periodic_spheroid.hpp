@@ -57,6 +57,7 @@ struct PeriodicSpheroidResult {
   double reynolds = 0.0;  ///< U d_v / nu
   double lateral_force_ratio = 0.0;  ///< |F normal to the drive| / |F along it|
   double slip_max = 0.0;  ///< largest marker slip after forcing / U
+  double slip_rms = 0.0;  ///< rms marker slip after forcing / U
   double last_relative_change = 0.0;  ///< estimated relative error of K left by the transient
   std::int64_t steps = 0;
 };
@@ -123,6 +124,7 @@ inline PeriodicSpheroidResult run_periodic_spheroid(double gamma, DragDirection 
   r.reynolds = u * d_v / nu;
   r.lateral_force_ratio = (force - force.dot(drive) * drive).norm() / std::abs(force.dot(drive));
   r.slip_max = sim.last_step().slip_max_si / u;
+  r.slip_rms = sim.last_step().slip_rms_si / u;
   r.steps = sim.steps();
   return r;
 }
@@ -152,10 +154,10 @@ inline const char* direction_name(DragDirection d) { return d == DragDirection::
 inline PeriodicSpheroidResult run_periodic_spheroid_printed(double gamma, DragDirection direction,
                                                             double cells_per_diameter, int box_cells) {
   const PeriodicSpheroidResult r = run_periodic_spheroid(gamma, direction, cells_per_diameter, box_cells);
-  std::printf("gamma = %g %s, d_v = %g cells, L = %d: K = %.4f, Re = %.1e, lateral %.1e, slip %.3f U, transient left %.1e, "
-              "%lld steps\n",
+  std::printf("gamma = %g %s, d_v = %g cells, L = %d: K = %.4f, Re = %.1e, lateral %.1e, slip max %.4f U rms %.4f U, "
+              "transient left %.1e, %lld steps\n",
               gamma, direction_name(direction), cells_per_diameter, box_cells, r.k, r.reynolds, r.lateral_force_ratio,
-              r.slip_max, r.last_relative_change, static_cast<long long>(r.steps));
+              r.slip_max, r.slip_rms, r.last_relative_change, static_cast<long long>(r.steps));
   std::fflush(stdout);
   return r;
 }

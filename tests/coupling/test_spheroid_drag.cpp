@@ -46,10 +46,16 @@ void check(double gamma, DragDirection direction) {
   // A principal direction of the body and of the cubic array: no force across the drive, up to
   // the lattice's anisotropy and round-off.
   EXPECT_LT(c.large_box.lateral_force_ratio, 1e-3);
-  // No-slip error at the markers after the forcing iterations (the issue: reported and bounded).
-  // Measured 0.4% of the flow speed at the worst marker with the default three sweeps; 1% leaves
-  // room for the resolution while catching a forcing that stopped converging.
-  EXPECT_LT(c.large_box.slip_max, 0.01);
+  // No-slip error at the markers after the default three forcing sweeps (the issue: reported and
+  // bounded). Over the surface (rms) measured 0.56% of the flow speed; 1% catches a forcing that
+  // stopped converging (one sweep leaves about half the slip of the step before it, docs/ibm.md).
+  // The worst marker sits at a tip, where the radius of curvature b^2/a is 2 cells at this
+  // resolution, less than the 3-cell support of the delta kernel, so neighbouring markers share
+  // most of their stencil and the sweeps converge slowest there: measured 2.2% (L = 30) and 1.8%
+  // (L = 40), against 0.4% for the axial drive at 16 cells per d_v (validation_spheroid_drag). 3% bounds it with the
+  // small box's margin; the rms carries the convergence check.
+  EXPECT_LT(c.large_box.slip_rms, 0.01);
+  EXPECT_LT(c.large_box.slip_max, 0.03);
   // The issue's criterion: 3% of the exact Stokes drag once the box is removed.
   EXPECT_NEAR(c.relative_error, 0.0, 0.03);
 }
