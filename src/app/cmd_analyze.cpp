@@ -19,6 +19,7 @@
 #include "analysis/observables.hpp"
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
+#include "app/summary_fields.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
 #include "io/case.hpp"
@@ -95,30 +96,12 @@ std::string read_text(const fs::path& path) {
   return text.str();
 }
 
-// Work-around for an io issue (reported): case.resolved.toml writes particle.scale with its
-// default value, marked "(default)", and reading it back counts it as given, which the shape
-// factory refuses for every shape but a mesh. The marked line is dropped, so the same default is
-// applied again; every other line is read as written.
-std::string without_default_particle_scale(const std::string& text) {
-  std::istringstream in(text);
-  std::string kept, line, table;
-  while (std::getline(in, line)) {
-    const std::size_t first = line.find_first_not_of(" \t");
-    if (first != std::string::npos && line[first] == '[') table = line.substr(first, line.find(']') + 1 - first);
-    const bool default_scale = table == "[particle]" && line.compare(first == std::string::npos ? 0 : first, 5,
-                                                                     "scale") == 0 &&
-                               line.find("(default)") != std::string::npos;
-    if (!default_scale) kept += line + "\n";
-  }
-  return kept;
-}
-
 coupling::SimulationSetup run_setup(const fs::path& dir, const json& summary) {
   const fs::path case_path = required_file(dir, "case.resolved.toml");
   const std::string name = summary.contains("case") && summary["case"].is_string() ? summary["case"].get<std::string>()
                                                                                    : dir.filename().string();
   const io::CaseValues values =
-      io::parse_case(io::case_schema(), without_default_particle_scale(read_text(case_path)), case_path.string());
+      io::parse_case(io::case_schema(), read_text(case_path), case_path.string());
   // Relative mesh paths of the resolved case are taken relative to the run directory.
   coupling::SimulationSetup setup = io::simulation_setup(values, dir, name);
   if (setup.motion != body::MotionKind::free)
@@ -174,10 +157,9 @@ void analyze(const AnalyzeOptions& options) {
   const fs::path series_path = required_file(dir, "timeseries.csv");
   json summary = read_summary(summary_path);
   const coupling::SimulationSetup setup = run_setup(dir, summary);
-  const analysis::SettlingSeries series = analysis::settling_series(analysis::read_timeseries_csv(series_path));
-  const analysis::Analysis result = analysis::analyse(series, analysis::particle_properties(setup), analysis_opts);
+  const analysis::Analysis result = analyse_timeseries(setup, series_path, analysis_opts);
 
-  const json fields = analysis::to_json(result);
+  const json fields = analysis_summary_fields(setup, result);
   for (const auto& [key, value] : fields.items()) summary[key] = value;
   io::write_file_atomically(summary_path, summary.dump(2) + "\n");
   if (options.json_output)

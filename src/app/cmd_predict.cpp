@@ -18,6 +18,7 @@
 
 #include "analysis/correlations.hpp"
 #include "app/commands.hpp"
+#include "app/summary_fields.hpp"
 #include "attitude/attitude.hpp"
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
@@ -225,24 +226,6 @@ Problem problem_from_case(const fs::path& path, analysis::Orientation orientatio
 }
 
 // ------------------------------------------------------------------ output
-
-json number_or_null(bool present, double value) { return present ? json(value) : json(nullptr); }
-
-json prediction_json(const analysis::LawPrediction& p, analysis::Orientation orientation) {
-  json descriptors = json::object();
-  for (const auto& [name, value] : p.descriptors) descriptors[name] = std::isfinite(value) ? json(value) : json(nullptr);
-  return {{"law", p.law},
-          {"terminal_velocity", number_or_null(p.state.solved, p.state.terminal_velocity_si)},
-          {"reynolds", number_or_null(p.state.solved, p.state.reynolds)},
-          {"drag_coefficient", number_or_null(p.state.solved, p.state.drag_coefficient)},
-          {"in_range", p.in_range},
-          {"solved", p.state.solved},
-          {"range", p.range},
-          {"reason", p.reason},
-          {"orientation", analysis::orientation_name(orientation)},
-          {"descriptors", descriptors},
-          {"citation", p.citation}};
-}
 
 std::string table(const Problem& problem, const std::vector<analysis::LawPrediction>& predictions) {
   const analysis::ParticleDescriptors& d = problem.particle;

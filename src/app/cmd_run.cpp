@@ -14,19 +14,27 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "analysis/observables.hpp"
+#include "analysis/terminal_state.hpp"
 #include "app/commands.hpp"
+#include "app/run_checkpoints.hpp"
+#include "app/console.hpp"
+#include "app/summary_fields.hpp"
 #include "common/error.hpp"
 #include "coupling/runner.hpp"
 #include "coupling/simulation.hpp"
+#include "coupling/time_control.hpp"
 #include "io/case.hpp"
 #include "io/output_files.hpp"
 #include "io/preflight.hpp"
+#include "io/vtk.hpp"
 #include "lbm/config.hpp"
 
 namespace settle::app {
@@ -41,6 +49,8 @@ struct RunOptions {
   int threads = 0;  ///< 0: OpenMP's default
   double max_memory_gib = 0.0;
   bool max_memory_given = false;  ///< --max-memory replaces MemAvailable as the budget
+  bool quiet = false, verbose = false;
+  std::string restart_dir;  ///< --restart DIR (app/run_checkpoints.hpp)
 };
 
 constexpr double kBytesPerGiB = 1024.0 * 1024.0 * 1024.0;
@@ -48,6 +58,7 @@ constexpr double kBytesPerGiB = 1024.0 * 1024.0 * 1024.0;
 void check_flags(const RunOptions& options) {
   if (options.threads < 0)
     throw InputError(fmt::format("--threads: must be >= 1 (or 0 for OpenMP's default), got {}", options.threads));
+  if (options.quiet && options.verbose) throw InputError("--quiet and --verbose: choose one");
   if (options.max_memory_given && !(std::isfinite(options.max_memory_gib) && options.max_memory_gib > 0.0))
     throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
 }
@@ -61,6 +72,25 @@ void prepare_output_directory(const fs::path& dir) {
   if (error)
     throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(),
                                  error.message()));
+}
+
+// The run directory holds everything needed to read it again (settle analyze, a later restart):
+// a mesh is copied beside case.resolved.toml, which names the copy, so that moving or deleting the
+// case's directory leaves the run readable.
+io::CaseValues with_mesh_copied_into(const io::CaseValues& values, const fs::path& case_base, const fs::path& dir) {
+  io::CaseValues resolved = values;
+  if (!values.has("particle.file")) return resolved;
+  const fs::path source = case_base / values.string("particle.file");
+  const fs::path copy_name = "particle_mesh" + source.extension().string();
+  std::error_code error;
+  if (!fs::equivalent(source, dir / copy_name, error)) {
+    fs::copy_file(source, dir / copy_name, fs::copy_options::overwrite_existing, error);
+    if (error)
+      throw InputError(fmt::format("particle.file: cannot copy {} into the run directory {}: {}", source.string(),
+                                   dir.string(), error.message()));
+  }
+  resolved.set("particle.file", io::Value(copy_name.string()), "settle run");
+  return resolved;
 }
 
 std::string motion_name(body::MotionKind kind) {
@@ -134,53 +164,211 @@ nlohmann::json summary_json(const coupling::Simulation& sim, const coupling::Run
   return j;
 }
 
+// VTK output on its own schedule (run.vtk_interval; docs/vtk.md): DIR/vtk/fluid_NNNNNN.vti with the
+// solid fraction, surface_NNNNNN.vtp, and the two .pvd collections ParaView plays as time series.
+class VtkOutput {
+ public:
+  VtkOutput(const coupling::Simulation& sim, const fs::path& dir, double interval_si)
+      : sim_(sim),
+        dir_(dir / "vtk"),
+        schedule_(interval_si),
+        // Triangles about a cell wide: the surface at the resolution the fluid sees.
+        surface_b_(io::surface_triangulation(*sim.setup().shape, sim.units().dx_si())),
+        fluid_pvd_(dir_ / "fluid.pvd"),
+        surface_pvd_(dir_ / "surface.pvd") {
+    std::error_code error;
+    fs::create_directories(dir_, error);
+    if (error) throw InputError(fmt::format("-o: cannot create {}: {}", dir_.string(), error.message()));
+  }
+
+  void after_step(double t_si, double dt_si) {
+    if (!schedule_.due(t_si, dt_si)) return;
+    const std::string index = fmt::format("{:06d}", count_++);
+    io::VtkOptions options;
+    options.time_si = t_si;
+    const fs::path fluid_file = dir_ / ("fluid_" + index + ".vti");
+    const std::vector<io::ScalarPointField> extra{
+        {"solid_fraction", io::solid_fraction_field(sim_.fluid(), sim_.current_solid_cells())}};
+    io::write_fluid_vti(fluid_file, sim_.fluid(), io::field_scaling(sim_.units(), sim_.frame().window_origin_si),
+                        options, extra);
+    fluid_pvd_.add(t_si, fluid_file);
+    const fs::path surface_file = dir_ / ("surface_" + index + ".vtp");
+    io::write_surface_vtp(surface_file, surface_b_, io::body_snapshot(sim_.body()), options);
+    surface_pvd_.add(t_si, surface_file);
+  }
+
+  VtkProgress progress() const { return {schedule_.next_index(), count_}; }
+  /// Continues after a restart at t_si: the collections keep the entries up to t_si (later files
+  /// are written again under the same names).
+  void resume(const VtkProgress& progress, double t_si) {
+    schedule_.set_next_index(progress.next_index);
+    count_ = progress.files_written;
+    fluid_pvd_ = io::PvdCollection::resume(fluid_pvd_.path(), t_si);
+    surface_pvd_ = io::PvdCollection::resume(surface_pvd_.path(), t_si);
+  }
+
+ private:
+  const coupling::Simulation& sim_;
+  fs::path dir_;
+  coupling::OutputSchedule schedule_;
+  body::TriangleMesh surface_b_;
+  io::PvdCollection fluid_pvd_;
+  io::PvdCollection surface_pvd_;
+  int count_ = 0;
+};
+
+// run.stop_at_terminal: the analysis' own detector and criteria (analysis/observables.hpp), fed
+// with every output sample, so that the run stops where `settle analyze` finds the terminal state.
+std::optional<analysis::TerminalStateDetector> terminal_detector(const io::CaseValues& values,
+                                                                 const coupling::Simulation& sim, Console& console) {
+  if (!values.boolean("run.stop_at_terminal")) return std::nullopt;
+  if (sim.body().motion_kind() != body::MotionKind::free) {
+    console.warning("run.stop_at_terminal: applies to free bodies only; this run goes to run.end_time");
+    return std::nullopt;
+  }
+  const analysis::TerminalCriteria criteria = analysis::terminal_criteria(analysis::particle_properties(sim.setup()));
+  if (!(criteria.response_time_si > 0.0)) {
+    console.warning("run.stop_at_terminal: the particle has no net weight, so no terminal state to detect; this run "
+                    "goes to run.end_time");
+    return std::nullopt;
+  }
+  console.info(fmt::format("stops at the terminal state: window {:.4g} s ({:g} response times of {:.4g} s), "
+                           "tolerance {:g}",
+                           criteria.window_si(), criteria.window_response_times, criteria.response_time_si,
+                           criteria.tolerance));
+  return analysis::TerminalStateDetector(criteria);
+}
+
+// Free bodies: the analysis of `settle analyze` (terminal state, observables, regime,
+// correlations) on the series just written. The run itself succeeded: an analysis that cannot be
+// made (too few samples, say) becomes a warning in summary.json rather than a failed run.
+void add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim, const fs::path& timeseries,
+                  Console& console) {
+  if (sim.body().motion_kind() != body::MotionKind::free) return;
+  try {
+    const analysis::Analysis result = analyse_timeseries(sim.setup(), timeseries, analysis::AnalysisOptions{});
+    const nlohmann::ordered_json fields = analysis_summary_fields(sim.setup(), result);
+    for (const auto& [key, value] : fields.items()) summary_document[key] = value;
+  } catch (const std::exception& e) {
+    const std::string warning = fmt::format("analysis not made: {} (settle analyze can retry with other options)",
+                                            e.what());
+    console.warning(warning);
+    summary_document["warnings"].push_back(warning);
+  }
+}
+
+void report_end(Console& console, const coupling::Simulation& sim, const coupling::RunResult& result,
+                const nlohmann::json& summary_document, const fs::path& dir) {
+  console.info("wall time by sub-step of the coupled step:");
+  for (const auto& [name, seconds] : sim.timers().entries())
+    console.info(fmt::format("  {:<20} {:8.2f} s  {:5.1f}%", name, seconds,
+                             result.wall_seconds > 0.0 ? 100.0 * seconds / result.wall_seconds : 0.0));
+  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime"))
+    console.info(fmt::format("settling at {:.5g} m/s, Re = {:.4g}, C_D = {:.4g}, regime {}",
+                             summary_document["terminal_vertical_velocity"].get<double>(),
+                             summary_document["reynolds"].get<double>(),
+                             summary_document["drag_coefficient"].get<double>(),
+                             summary_document["regime"].get<std::string>()));
+  console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps,
+                           result.wall_seconds, result.mlups, result.stop_reason, dir.string()));
+}
+
 void run_case(const RunOptions& options) {
   check_flags(options);
+  // --restart DIR: the case, its name and the directory come from DIR/checkpoint.bin (checked here,
+  // before anything in DIR changes); relative paths in its resolved case are relative to DIR.
+  check_restart_flags(options.restart_dir, options.case_file, options.overrides, options.output_dir);
+  std::optional<RestartPoint> restart;
+  if (!options.restart_dir.empty()) restart.emplace(options.restart_dir);
   const fs::path case_path = options.case_file;
-  const io::CaseValues values = io::load_case(case_path, options.overrides);
-  const std::string name = case_path.empty() ? "default" : case_path.stem().string();
-  const fs::path base = case_path.empty() ? fs::current_path() : fs::absolute(case_path).parent_path();
+  const io::CaseValues values = restart ? restart->case_values() : io::load_case(case_path, options.overrides);
+  const std::string name = restart ? restart->case_name() : case_path.empty() ? "default" : case_path.stem().string();
+  const fs::path base = restart              ? restart->run_dir()
+                        : case_path.empty() ? fs::current_path()
+                                            : fs::absolute(case_path).parent_path();
+  Console console(options.quiet ? Verbosity::quiet : options.verbose ? Verbosity::verbose : Verbosity::normal);
   std::vector<std::string> warnings = io::unsupported_key_warnings(values);
-  for (const auto& w : warnings) fmt::print(stderr, "settle run: warning: {}\n", w);
+  for (const auto& w : warnings) console.warning(w);
 
   coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
-  const fs::path dir = options.output_dir.empty() ? fs::path("runs") / name : fs::path(options.output_dir);
+  const fs::path dir = restart                      ? restart->run_dir()
+                       : options.output_dir.empty() ? fs::path("runs") / name
+                                                    : fs::path(options.output_dir);
   io::PreflightOptions checks;
   checks.output_directory = dir;
   if (options.max_memory_given) checks.memory_budget_bytes = options.max_memory_gib * kBytesPerGiB;
   const io::PreflightReport report = io::preflight(setup, checks);
-  for (const auto& w : report.warnings) fmt::print(stderr, "settle run: warning: {}\n", w);
+  for (const auto& w : report.warnings) console.warning(w);
   warnings.insert(warnings.end(), report.warnings.begin(), report.warnings.end());
-  fmt::print(stderr, "settle run: {}: preflight passed: {}\n", name, report.summary());
+  console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
 
   coupling::Simulation sim(std::move(setup));
+  if (restart) restart->restore(sim);
   if (options.threads > 0) omp_set_num_threads(options.threads);
+  else if (restart) omp_set_num_threads(restart->threads());  // as the run had: bit for bit
   const auto& d = sim.derived();
-  fmt::print(stderr,
-             "settle run: {}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
-             "grid {}x{}x{}, {} markers, {} threads\n",
-             name, d.dx_si, d.dt_si, d.tau, d.mach, d.reynolds, d.galileo, d.cells[0], d.cells[1], d.cells[2],
-             d.marker_count, omp_get_max_threads());
+  console.info(fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
+                           "grid {}x{}x{}, {} markers, {} threads",
+                           name, d.dx_si, d.dt_si, d.tau, d.mach, d.reynolds, d.galileo, d.cells[0], d.cells[1],
+                           d.cells[2], d.marker_count, omp_get_max_threads()));
 
+  console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
   prepare_output_directory(dir);
-  io::write_file_atomically(dir / "case.resolved.toml", io::write_resolved_toml(values) + derived_block(sim));
+  const std::string resolved_case =
+      restart ? restart->resolved_case()
+              : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
+  io::write_file_atomically(dir / "case.resolved.toml", resolved_case);
+  if (!restart) remove_earlier_checkpoint(dir);
 
-  io::TimeseriesWriter timeseries(dir / "timeseries.csv");
+  io::TimeseriesWriter timeseries =
+      restart ? io::TimeseriesWriter::continue_at(dir / "timeseries.csv", restart->timeseries_bytes())
+              : io::TimeseriesWriter(dir / "timeseries.csv");
   coupling::RunCallbacks callbacks;
   callbacks.on_sample = [&](const coupling::Sample& s) { timeseries.write(s); };
-  callbacks.on_progress = [](const std::string& line) { fmt::print(stderr, "settle run: {}\n", line); };
+  callbacks.on_progress = [&console](const std::string& line) { console.progress(line); };
+  std::optional<analysis::TerminalStateDetector> terminal = terminal_detector(values, sim, console);
+  if (terminal)
+    callbacks.stop_after_sample = [&terminal](const coupling::Sample& s) {
+      terminal->add(s.t_si, s.velocity_si);
+      return terminal->reached() ? std::string("terminal_state") : std::string();
+    };
+  // A restart feeds the detector the samples before the checkpoint, as the run did.
+  if (terminal && restart)
+    for (const coupling::Sample& s : restart->loop().samples) terminal->add(s.t_si, s.velocity_si);
+  std::optional<VtkOutput> vtk;
+  if (values.real("run.vtk_interval") > 0.0) {
+    vtk.emplace(sim, dir, values.real("run.vtk_interval"));
+    if (restart) vtk->resume(restart->vtk(), restart->time_si());
+    callbacks.after_step = [&vtk](double t_si, double dt_si) { vtk->after_step(t_si, dt_si); };
+  }
+  const RunCheckpoints checkpoints(dir, resolved_case, name);
+  callbacks.checkpoint_interval_si = values.real("run.checkpoint_interval");
+  callbacks.checkpoint_due = [&](const coupling::RunStart& loop) {
+    checkpoints.write(sim, loop, vtk ? vtk->progress() : VtkProgress{});
+  };
+  const InterruptSignals signals;
+  callbacks.interrupted = [&signals] { return signals.raised(); };
+  if (restart)
+    console.info(fmt::format("{}: continuing from {} at t = {:.6g} s (step {})", name, restart->file().string(),
+                             restart->time_si(), restart->loop().step));
   coupling::RunResult result;
   try {
-    result = coupling::run(sim, callbacks);
+    result = coupling::run(sim, callbacks, restart ? restart->take_loop_state() : coupling::RunStart{},
+                           console.progress_interval_s());
   } catch (const std::exception&) {
-    fmt::print(stderr, "settle run: the run failed after {} steps; {} holds the rows written until then, and no "
-               "summary.json was written\n", sim.steps(), (dir / "timeseries.csv").string());
+    console.warning(fmt::format("the run failed after {} steps; {} holds the rows written until then, and no "
+                                "summary.json was written", sim.steps(), (dir / "timeseries.csv").string()));
     throw;
   }
+  if (result.stop_reason == "interrupted")
+    throw interrupted_error(signals.signal_number(), result, dir, checkpoints.file());
   const coupling::RunSummary summary = coupling::summarise(sim, result);
-  io::write_file_atomically(dir / "summary.json", summary_json(sim, result, summary, warnings).dump(2) + "\n");
-  fmt::print(stderr, "settle run: {} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}\n", result.steps,
-             result.wall_seconds, result.mlups, result.stop_reason, dir.string());
+  nlohmann::json summary_document = summary_json(sim, result, summary, warnings);
+  // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
+  if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
+  add_analysis(summary_document, sim, dir / "timeseries.csv", console);
+  io::write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
+  report_end(console, sim, result, summary_document, dir);
 }
 
 }  // namespace
@@ -194,6 +382,8 @@ void add_run_command(CLI::App& app) {
       ->take_all()
       ->allow_extra_args(false);
   run->add_option("--threads", options->threads, "OpenMP threads (default: all)");
+  run->add_flag("-q,--quiet", options->quiet, "print warnings and errors only");
+  run->add_flag("-v,--verbose", options->verbose, "also print every derived value of the unit conversion; progress more often in a log");
   CLI::Option* max_memory = run->add_option(
       "--max-memory", options->max_memory_gib,
       "memory budget in GiB for the preflight check (default: MemAvailable of /proc/meminfo); a case whose estimate "
@@ -202,6 +392,10 @@ void add_run_command(CLI::App& app) {
     options->max_memory_given = max_memory->count() > 0;
     run_case(*options);
   });
+  run->add_option("--restart", options->restart_dir,
+                   "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
+                   "SIGINT/SIGTERM); takes no case file, --set or -o")
+      ->type_name("DIR");
 }
 
 }  // namespace settle::app

@@ -25,13 +25,19 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version print and succeed (exit code 0); every other parse error (unknown
+    // flag, missing or malformed value) is a usage error the user can fix: exit 2, as InputError.
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   } catch (const settle::InputError& e) {
     fmt::print(stderr, "settle: error: {}\n", e.what());
     return 2;
   } catch (const settle::NumericalError& e) {
     fmt::print(stderr, "settle: run stopped: {}\n", e.what());
     return 3;
+  } catch (const settle::RunInterrupted& e) {
+    fmt::print(stderr, "settle: {}\n", e.what());
+    return e.exit_status();
   } catch (const std::exception& e) {
     fmt::print(stderr, "settle: internal error: {}\n", e.what());
     return 1;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include <fmt/core.h>
 
@@ -17,10 +18,13 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-std::string progress_line(const Simulation& sim, const TimeControl& time, double wall_s) {
+// wall_s: of this segment, which began at start_step (0, or a restart's step).
+std::string progress_line(const Simulation& sim, const TimeControl& time, std::int64_t start_step, double wall_s) {
   const double fraction = static_cast<double>(time.step()) / static_cast<double>(std::max<std::int64_t>(1, time.total_steps()));
-  const double eta = fraction > 0.0 ? wall_s * (1.0 - fraction) / fraction : 0.0;
-  const double mlups = static_cast<double>(sim.fluid().cell_count()) * static_cast<double>(time.step()) / wall_s / 1e6;
+  const double steps_done = static_cast<double>(time.step() - start_step);
+  const double steps_left = static_cast<double>(std::max<std::int64_t>(0, time.total_steps() - time.step()));
+  const double eta = steps_done > 0.0 ? wall_s * steps_left / steps_done : 0.0;
+  const double mlups = static_cast<double>(sim.fluid().cell_count()) * steps_done / wall_s / 1e6;
   return fmt::format("t = {:.4g} s ({:.1f}%), |u| = {:.4g} m/s, ETA {:.0f} s, {:.1f} MLUPS", time.time_si(),
                      100.0 * fraction, sim.body().state().velocity_si.norm(), eta, mlups);
 }
@@ -39,6 +43,10 @@ Sample take_sample(const Simulation& sim, double t_si) {
   s.hydrodynamic = sim.steps() > 0 ? sim.last_step().hydrodynamic : body::Wrench{};
   s.slip_max_si = sim.last_step().slip_max_si;
   s.slip_rms_si = sim.last_step().slip_rms_si;
+  if (sim.steps() > 0) {
+    s.contact = sim.last_step().contact;
+    s.wall_gap_si = sim.last_step().wall_gap_si;
+  }
   // The far field: the driven flow around a fixed body; fluid at rest around a moving one.
   s.relative_flow_si = sim.body().motion_kind() == body::MotionKind::fixed ? sim.superficial_velocity_si()
                                                                           : Eigen::Vector3d(-state.velocity_si);
@@ -47,10 +55,26 @@ Sample take_sample(const Simulation& sim, double t_si) {
 }
 
 RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_interval_wall_s) {
-  TimeControl time(sim.units().dt_si(), sim.setup().end_time_si);
+  return run(sim, callbacks, RunStart{}, progress_interval_wall_s);
+}
+
+RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, double progress_interval_wall_s) {
+  if (start.step != sim.steps())
+    throw std::invalid_argument(fmt::format("run: the start step {} is not the simulation's step {}", start.step,
+                                            sim.steps()));
+  TimeControl time(sim.units().dt_si(), sim.setup().end_time_si, start.step);
   OutputSchedule output(sim.setup().output_interval_si);
+  output.set_next_index(start.next_output_index);
+  // Checkpoints at the multiples of their interval after the start time (marked done here): a
+  // checkpoint at the start would hold what the case or the restored checkpoint already holds.
+  OutputSchedule checkpoints(callbacks.checkpoint_due && callbacks.checkpoint_interval_si > 0.0
+                                 ? callbacks.checkpoint_interval_si
+                                 : -1.0);
+  checkpoints.due(time.time_si(), time.dt_si());
   RunResult result;
-  const auto start = Clock::now();
+  result.samples = std::move(start.samples);
+  const auto segment_start = Clock::now();
+  const auto wall_so_far = [&] { return start.wall_seconds + seconds_since(segment_start); };
   double next_progress_s = progress_interval_wall_s;
 
   std::string stop_reason;
@@ -64,6 +88,14 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_in
   };
   const auto sample_if_due = [&] {
     if (output.due(time.time_si(), time.dt_si())) record_sample();
+    if (callbacks.after_step) callbacks.after_step(time.time_si(), time.dt_si());
+  };
+  const auto hand_over_checkpoint = [&] {
+    // The samples are lent to the state rather than copied (a long run holds many); they come back
+    // before anything else reads them.
+    RunStart state{time.step(), output.next_index(), std::move(result.samples), wall_so_far()};
+    callbacks.checkpoint_due(state);
+    result.samples = std::move(state.samples);
   };
 
   sample_if_due();
@@ -78,21 +110,24 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_in
     time.advance();
     sample_if_due();
     if (stop_reason.empty() && callbacks.interrupted && callbacks.interrupted()) stop_reason = "interrupted";
+    if (callbacks.checkpoint_due && (checkpoints.due(time.time_si(), time.dt_si()) || stop_reason == "interrupted"))
+      hand_over_checkpoint();
     if (!stop_reason.empty()) {
       result.stop_reason = stop_reason;
       break;
     }
-    const double wall = seconds_since(start);
+    const double wall = seconds_since(segment_start);
     if (callbacks.on_progress && wall >= next_progress_s) {
-      callbacks.on_progress(progress_line(sim, time, wall));
+      callbacks.on_progress(progress_line(sim, time, start.step, wall));
       next_progress_s = wall + progress_interval_wall_s;
     }
   }
-  // The final state is always sampled, so that the last row is the end of the run.
+  // The final state is always sampled, so that the last row is the end of the run (an interrupted
+  // run's too: its checkpoint was written before, and a restart cuts the row off again).
   if (result.samples.empty() || result.samples.back().t_si < time.time_si()) record_sample();
   result.steps = time.step();
   result.simulated_time_si = time.time_si();
-  result.wall_seconds = seconds_since(start);
+  result.wall_seconds = wall_so_far();
   result.mlups = result.wall_seconds > 0.0 ? static_cast<double>(sim.fluid().cell_count()) *
                                                  static_cast<double>(result.steps) / result.wall_seconds / 1e6
                                            : 0.0;

@@ -4,6 +4,7 @@
 // Writing files is the caller's business (callbacks), so the loop is testable without a disk.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,10 +31,26 @@ struct Sample {
   Eigen::Vector3d relative_flow_si = Eigen::Vector3d::Zero();  ///< far-field fluid minus body velocity
   double slip_max_si = 0.0;
   double slip_rms_si = 0.0;
+  /// Particle-wall contact of the last step (StepObservation::contact): impulse / dt, zero away
+  /// from walls and at t = 0.
+  body::Wrench contact;
+  /// Smallest body-wall gap of the last step's corrector, m; infinity without contact walls (a
+  /// following window, periodic axes, contact off, towed or fixed bodies) and at t = 0.
+  double wall_gap_si = std::numeric_limits<double>::infinity();
 };
 
 /// Takes a sample of the simulation's current state.
 Sample take_sample(const Simulation& simulation, double t_si);
+
+/// Where run() starts, and the loop's own state that a checkpoint stores beside the simulation's.
+/// A fresh run starts from the default; a continued run from what checkpoint_due was given, with
+/// the simulation restored to the same step.
+struct RunStart {
+  std::int64_t step = 0;                ///< coupled steps already taken (== Simulation::steps())
+  std::int64_t next_output_index = 0;   ///< OutputSchedule::next_index() of the samples
+  std::vector<Sample> samples;          ///< recorded so far (RunResult::samples: the summary's data)
+  double wall_seconds = 0.0;            ///< wall time of the run so far (earlier segments)
+};
 
 struct RunCallbacks {
   std::function<void(const Sample&)> on_sample;          ///< every output time
@@ -43,13 +60,23 @@ struct RunCallbacks {
   /// Checked after every step (keep it cheap: an atomic flag set by a signal handler); true ends
   /// the run after the current step with stop_reason "interrupted".
   std::function<bool()> interrupted;
+  /// At t = 0 and after every step, with the simulated time and dt (for outputs on their own
+  /// schedule, e.g. VTK; keep it cheap when nothing is due).
+  std::function<void(double t_si, double dt_si)> after_step;
+  /// Called with the loop's state (RunStart) when a checkpoint is due: after the step that reaches
+  /// each multiple of checkpoint_interval_si of simulated time (0: never; none at the start time,
+  /// which the checkpoint or the case already describes), and once after the interrupting step,
+  /// whatever the interval. It comes after that step's sample and after_step, so the state includes
+  /// them. The caller writes the checkpoint (coupling/checkpoint_state.hpp).
+  std::function<void(const RunStart&)> checkpoint_due;
+  double checkpoint_interval_si = 0.0;
 };
 
 struct RunResult {
   std::int64_t steps = 0;
   double simulated_time_si = 0.0;
-  double wall_seconds = 0.0;
-  double mlups = 0.0;  ///< million fluid-cell updates per wall second over the whole loop
+  double wall_seconds = 0.0;  ///< a continued run: its earlier segments' (RunStart) included
+  double mlups = 0.0;  ///< million fluid-cell updates per wall second over steps and wall_seconds
   std::string stop_reason;  ///< "end_time", "reached_boundary", "interrupted" or a stop_after_sample reason
   std::vector<Sample> samples;
 };
@@ -59,6 +86,12 @@ struct RunResult {
 /// health (coupling/health.hpp) is checked at every sample: settle::NumericalError when it fails,
 /// after the sample has been handed to on_sample.
 RunResult run(Simulation& simulation, const RunCallbacks& callbacks, double progress_interval_wall_s = 5.0);
+
+/// Continues a run from `start` (a checkpoint's loop state; the simulation restored to
+/// start.step): the samples due before start.step are not taken again, and the result holds
+/// start.samples followed by the new ones, as if the run had never stopped.
+RunResult run(Simulation& simulation, const RunCallbacks& callbacks, RunStart start,
+              double progress_interval_wall_s = 5.0);
 
 /// Results of a run. Time averages are over the samples in the second half of the simulated
 /// time (the first half is the start-up transient; a later issue brings terminal-state

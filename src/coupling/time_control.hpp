@@ -13,6 +13,10 @@ class OutputSchedule {
   /// True when an output is due at time t_si (the first one at t = 0); marks it done.
   bool due(double t_si, double dt_si);
   bool enabled() const { return interval_si_ >= 0.0; }
+  /// Index of the next output (the one at next_index x interval): what a checkpoint stores so
+  /// that a continued run neither repeats nor skips an output.
+  std::int64_t next_index() const { return next_index_; }
+  void set_next_index(std::int64_t index) { next_index_ = index; }
 
  private:
   double interval_si_;
@@ -23,7 +27,8 @@ class OutputSchedule {
 /// time does not accumulate round-off.
 class TimeControl {
  public:
-  TimeControl(double dt_si, double end_time_si);
+  /// Starts at `start_step` (0 for a fresh run; a restored simulation's steps() to continue it).
+  TimeControl(double dt_si, double end_time_si, std::int64_t start_step = 0);
   double dt_si() const { return dt_si_; }
   double time_si() const { return static_cast<double>(step_) * dt_si_; }
   double end_time_si() const { return end_time_si_; }

@@ -15,8 +15,10 @@ namespace settle::io {
 /// water that runs in about a minute on two cores.
 std::string_view default_case_toml();
 
-/// Reads a case file (or the default case when `path` is empty) and applies the --set
-/// overrides in order. settle::InputError names the file or --set and the key on any problem.
+/// Reads a case file (or the default case when `path` is empty), applies the --set overrides in
+/// order, then the fluid preset (io/fluid_presets.hpp: fluid.density and fluid.dynamic_viscosity
+/// from fluid.preset unless given). settle::InputError names the file or --set and the key on any
+/// problem.
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides);
 
 /// The simulation set-up of a checked case. Relative mesh paths are taken relative to
@@ -25,8 +27,8 @@ CaseValues load_case(const std::filesystem::path& path, const std::vector<std::s
 coupling::SimulationSetup simulation_setup(const CaseValues& values, const std::filesystem::path& base_directory,
                                            std::string name);
 
-/// Keys that are accepted but not acted on by this version (e.g. VTK output), as messages for
-/// the user.
+/// Messages for the user about the case: keys accepted but not acted on by this version, and
+/// explicit fluid values that replace a preset's (io::fluid_preset_warnings).
 std::vector<std::string> unsupported_key_warnings(const CaseValues& values);
 
 }  // namespace settle::io

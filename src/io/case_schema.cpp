@@ -35,8 +35,16 @@ std::vector<KeySpec> declare() {
   const std::vector<std::string> walls{"no-slip", "free-slip", "periodic"};
   return {
       // [fluid]
-      real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density"),
-      real("fluid.dynamic_viscosity", Value(1.0e-3), "Pa s", positive(), "dynamic viscosity"),
+      real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density (when given, overrides fluid.preset)"),
+      real("fluid.dynamic_viscosity", Value(1.0e-3), "Pa s", positive(),
+           "dynamic viscosity (when given, overrides fluid.preset)"),
+      // Presets (io/fluid_presets.hpp): the ranges are those of the correlations' sources.
+      choice("fluid.preset", "none", {"none", "water", "glycerol-water"},
+             "liquid whose density and viscosity follow from fluid.temperature (docs/case-file.md, Fluid presets)"),
+      real("fluid.temperature", std::nullopt, "degrees C", closed(0.0, 100.0),
+           "temperature of the preset liquid (only with fluid.preset)"),
+      real("fluid.glycerol_mass_fraction", std::nullopt, "", closed(0.0, 1.0),
+           "mass of glycerol per mass of mixture (fluid.preset = \"glycerol-water\" only)"),
       vector3("fluid.gravity", vec(0.0, 0.0, -9.81), "m/s^2", {}, "gravitational acceleration"),
       vector3("fluid.body_force", vec(0.0, 0.0, 0.0), "N/m^3", {},
               "force density on the fluid (drives flow past a fixed body in a periodic box)"),
@@ -55,7 +63,10 @@ std::vector<KeySpec> declare() {
       real("particle.length", std::nullopt, "m", positive(), "cylinder length along body z (a disk is a short cylinder)"),
       vector3("particle.size", std::nullopt, "m", positive(), "cuboid edge lengths along body x, y, z"),
       {"particle.file", Kind::String, std::nullopt, "", "mesh: watertight STL file (relative to the case file)", {}, {}, 0},
-      real("particle.scale", Value(1.0), "m per file unit", positive(), "mesh: factor from file units to metres"),
+      // Optional rather than defaulted: a default would be written to case.resolved.toml and read
+      // back as given, and the shape factory refuses scale for every shape but a mesh.
+      real("particle.scale", std::nullopt, "m per file unit", positive(),
+           "mesh: factor from file units to metres (absent: 1)"),
       real("particle.density", Value(1050.0), "kg/m^3", positive(), "particle density"),
       choice("particle.motion", "free", {"free", "towed", "fixed"},
              "free (6 degrees of freedom), towed (constant velocity and attitude) or fixed"),
@@ -88,12 +99,28 @@ std::vector<KeySpec> declare() {
            "largest relaxation time when choosing dt"),
       real("numerics.tau", std::nullopt, "", {0.501, 5.0, false, true},
            "relaxation time; when given, dt follows from it instead of the Mach and tau bounds"),
+      // [contact]: particle-wall contact (body/contact.hpp, docs/rigid-body.md); the bounds are
+      // those of the Simulation's check_contact_setup (coupling/simulation.cpp).
+      boolean("contact.enabled", true,
+              "spring-dashpot contact with the walls of non-periodic axes (free bodies, fixed window only)"),
+      real("contact.restitution", Value(0.97), "", {0.0, 1.0, false, true},
+           "dry normal restitution coefficient e (glass, steel: about 0.97)"),
+      real("contact.collision_steps", Value(10.0), "", closed(1.0, 1.0e4),
+           "collision time T_c in fluid time steps (Kempe and Froehlich 2012)"),
+      // The lower bound depends on the kernel (half-width - 0.5: 1 for roma3, 1.5 for peskin4); the
+      // schema holds the smallest, the Simulation's check (and preflight) the kernel's own.
+      real("contact.distance_cells", std::nullopt, "cells", closed(1.0, 1.0e3),
+           "gap at which the contact spring starts (absent: the delta kernel's half-width; at least half-width - 0.5)"),
       // [run]
       real("run.end_time", Value(1.0), "s", positive(), "simulated time to run"),
       real("run.output_interval", Value(0.005), "s", non_negative(), "interval of timeseries.csv rows (0 = every step)"),
       real("run.vtk_interval", Value(0.0), "s", non_negative(), "interval of VTK output (0 = none)"),
       boolean("run.stop_at_terminal", false, "end once the terminal state is reached"),
-      real("run.checkpoint_interval", Value(0.0), "s", non_negative(), "simulated time between checkpoints (0 = none)"),
+      real("run.checkpoint_interval", Value(0.0), "s", non_negative(),
+           "simulated time between checkpoints in DIR/checkpoint.bin (0 = none; SIGINT or SIGTERM writes one anyway)"),
+      {"run.reference", Kind::String, std::nullopt, "",
+       "key of validation/reference-data.json the run is compared with (e.g. \"tenCate2002_E1\"), copied to summary.json",
+       {}, {}, 0},
   };
 }
 

@@ -1,5 +1,7 @@
 #include "io/output_files.hpp"
 
+#include <cmath>
+
 #include <fmt/core.h>
 
 #include "attitude/euler.hpp"
@@ -23,12 +25,31 @@ const std::vector<std::string>& timeseries_columns() {
   static const std::vector<std::string> columns{
       "t",     "x",     "y",       "z",       "ux",      "uy",        "uz", "wx", "wy", "wz",
       "wbx",   "wby",   "wbz",     "psi",     "theta",   "gamma",     "psi_r", "theta_r", "gamma_r",
-      "euler_set", "Fx", "Fy",     "Fz",      "Tx",      "Ty",        "Tz", "Re", "slip_max", "slip_rms"};
+      "euler_set", "Fx", "Fy",     "Fz",      "Tx",      "Ty",        "Tz", "Re", "slip_max", "slip_rms",
+      "Fcx", "Fcy", "Fcz", "wall_gap"};
   return columns;
 }
 
-TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path) : out_(path, std::ios::trunc), path_(path) {
+TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path, std::ios::openmode mode)
+    : out_(path, mode), path_(path) {
   if (!out_) throw InputError(fmt::format("{}: cannot write", path.string()));
+}
+
+TimeseriesWriter TimeseriesWriter::continue_at(const std::filesystem::path& path, std::uintmax_t keep_bytes) {
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) throw InputError(fmt::format("{}: cannot continue it: {}", path.string(), error.message()));
+  if (size < keep_bytes)
+    throw InputError(fmt::format("{}: holds {} bytes, fewer than the {} it held at the checkpoint: the rows before the "
+                                 "checkpoint are missing; cannot continue this run", path.string(), size, keep_bytes));
+  std::filesystem::resize_file(path, keep_bytes, error);
+  if (error)
+    throw InputError(fmt::format("{}: cannot cut it to {} bytes: {}", path.string(), keep_bytes, error.message()));
+  return TimeseriesWriter(path, std::ios::out | std::ios::app);
+}
+
+TimeseriesWriter::TimeseriesWriter(const std::filesystem::path& path)
+    : TimeseriesWriter(path, std::ios::out | std::ios::trunc) {
   const auto& columns = timeseries_columns();
   for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
   out_ << '\n';
@@ -52,7 +73,11 @@ void TimeseriesWriter::write(const coupling::Sample& s) {
   row += fmt::format(",{}", euler_set);
   add(s.hydrodynamic.force_si);
   add(s.hydrodynamic.torque_si);
-  row += fmt::format(",{:.17g},{:.17g},{:.17g}\n", s.reynolds, s.slip_max_si, s.slip_rms_si);
+  row += fmt::format(",{:.17g},{:.17g},{:.17g}", s.reynolds, s.slip_max_si, s.slip_rms_si);
+  add(s.contact.force_si);
+  // Every value of the file is finite (readers and tests rely on it): without contact walls the
+  // gap is infinite, written as the sentinel -1 (a real gap is never below minus a cell or so).
+  row += fmt::format(",{:.17g}\n", std::isfinite(s.wall_gap_si) ? s.wall_gap_si : kNoWallGap);
   out_ << row;
   out_.flush();
   if (!out_) throw InputError(fmt::format("{}: write failed", path_.string()));

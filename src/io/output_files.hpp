@@ -2,6 +2,7 @@
 // Small writers for the run directory: whole files written atomically (temporary file plus
 // rename, so a reader never sees half a file), and the streaming timeseries.csv whose columns
 // are the contract of DESIGN.md section 3.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -17,17 +18,30 @@ namespace settle::io {
 void write_file_atomically(const std::filesystem::path& path, std::string_view text);
 
 /// The columns of timeseries.csv: the DESIGN.md contract (t .. Re), then extras (slip_max,
-/// slip_rms: the largest and rms no-slip error at the markers after forcing, m/s).
+/// slip_rms: the largest and rms no-slip error at the markers after forcing, m/s; Fcx, Fcy, Fcz:
+/// the particle-wall contact force of the last step, N; wall_gap: the smallest body-wall gap of
+/// the last step, m, kNoWallGap without contact walls). New columns are only ever appended.
 const std::vector<std::string>& timeseries_columns();
+
+/// wall_gap of timeseries.csv when the run has no contact walls (a following window, periodic
+/// axes, contact off, towed or fixed bodies) and at t = 0: the file holds finite numbers only.
+inline constexpr double kNoWallGap = -1.0;
 
 /// One row per sample, SI, full double precision; flushed after every row so that a running
 /// case can be watched.
 class TimeseriesWriter {
  public:
+  /// A new file holding the header line (an existing one is replaced).
   explicit TimeseriesWriter(const std::filesystem::path& path);
+  /// Continues the file of a restarted run: cuts it to its first `keep_bytes` bytes (the length
+  /// when the checkpoint was written; the rows after it are written again) and appends. Throws
+  /// settle::InputError naming the file when it is missing or shorter than that.
+  static TimeseriesWriter continue_at(const std::filesystem::path& path, std::uintmax_t keep_bytes);
   void write(const coupling::Sample& sample);
 
  private:
+  TimeseriesWriter(const std::filesystem::path& path, std::ios::openmode mode);
+
   std::ofstream out_;
   std::filesystem::path path_;
 };

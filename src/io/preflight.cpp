@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include <fmt/core.h>
 
 #include "coupling/runner.hpp"
+#include "body/contact.hpp"
 #include "common/error.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/grid.hpp"
@@ -369,6 +371,41 @@ void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, 
   check_stencil_room(s, dx_si, cells);
 }
 
+void check_contact_start(const coupling::SimulationSetup& s, double dx_si, double dt_si,
+                         const std::array<double, 3>& cells) {
+  if (!s.wall_contact || s.motion != body::MotionKind::free || s.follow_particle) return;
+  const double minimum_cells = ibm::support_half_width(s.kernel) - 0.5;
+  const double distance_cells = s.contact_distance_cells.value_or(ibm::support_half_width(s.kernel));
+  if (!(distance_cells >= minimum_cells && distance_cells <= 1.0e3))
+    throw InputError(fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
+                                 "closer to a wall would put its forcing stencil outside the grid), got {}",
+                                 minimum_cells, ibm::to_string(s.kernel), distance_cells));
+  const std::array<double, 3> extent_si{cells[0] * dx_si, cells[1] * dx_si, cells[2] * dx_si};
+  const FaceClearance clearance =
+      face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(),
+                     Eigen::Vector3d(extent_si[0], extent_si[1], extent_si[2]));
+  double gap_si = std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < 3; ++a)
+    if (s.boundaries[a] != lbm::Boundary::periodic)
+      gap_si = std::min({gap_si, clearance.lower_si[a], clearance.upper_si[a]});
+  if (!std::isfinite(gap_si)) return;  // all axes periodic: no contact walls
+  // The same parameters and stiffness as Simulation::make_wall_contact (k from the whole mass).
+  body::ContactParameters parameters;
+  parameters.restitution = s.contact_restitution;
+  parameters.collision_time_si = s.contact_collision_steps * dt_si;
+  parameters.contact_distance_si = distance_cells * dx_si;
+  const double mass_si = s.shape->mass_properties(s.particle_density_si).mass;
+  const double net_weight_si =
+      std::abs((s.particle_density_si - s.fluid_density_si) * s.shape->volume()) * s.gravity_si.norm();
+  const double compression_si = net_weight_si / body::spring_dashpot(mass_si, mass_si, parameters).stiffness;
+  if (gap_si < parameters.contact_distance_si - 2.0 * compression_si)
+    throw InputError(fmt::format("particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
+                                 "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring "
+                                 "would throw it off. Move it at least {:.4g} m from the walls, lower "
+                                 "contact.distance_cells, or set contact.enabled = false",
+                                 gap_si, gap_si / dx_si, distance_cells, parameters.contact_distance_si - compression_si));
+}
+
 void check_net_weight(const coupling::SimulationSetup& s) {
   if (s.motion != body::MotionKind::free) return;
   const double excess_density = s.particle_density_si - s.fluid_density_si;
@@ -435,6 +472,7 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   for (std::size_t a = 0; a < 3; ++a) r.cells[a] = static_cast<int>(grid.cells[a]);
 
   check_particle_in_domain(s, r.dx_si, grid.cells);
+  check_contact_start(s, r.dx_si, r.dt_si, grid.cells);
   r.markers = s.shape->surface_area() / (r.dx_si * r.dx_si);
   check_markers(r.markers, r.dx_si);
   r.steps = checked_steps(s, r.dt_si);

@@ -86,6 +86,186 @@ TEST(RunCli, DefaultFreeSettlingCaseRunsAFewSteps) {
   fs::remove_all(dir);
 }
 
+// The resolved case is a complete case: running it again must be accepted and give the same
+// result. Exact equality of the CSV holds because the resolved file carries every value at round-trip
+// precision and one thread makes the run deterministic.
+TEST(RunCli, ResolvedCaseRunsAgainWithTheSameResult) {
+  const fs::path first = scratch("resolved_first"), second = scratch("resolved_second");
+  const Result r = run_settle("-o " + first.string() + " --set run.end_time=0.0025 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // The default case is a spheroid: particle.scale (mesh only) must not be written as if given.
+  EXPECT_EQ(read_text(first / "case.resolved.toml").find("scale ="), std::string::npos);
+  const Result again = run_settle((first / "case.resolved.toml").string() + " -o " + second.string() + " --threads 1");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(read_text(first / "timeseries.csv"), read_text(second / "timeseries.csv"));
+  fs::remove_all(first);
+  fs::remove_all(second);
+}
+
+// A mesh run carries its mesh: the STL is copied into the run directory and the resolved case names
+// the copy, so that the run directory alone runs again (and settle analyze reads it) wherever the
+// case file went.
+TEST(RunCli, MeshRunDirectoryHoldsItsMeshAndRunsAgain) {
+  const fs::path first = scratch("mesh_first"), second = scratch("mesh_second");
+  const Result r = run_settle(case_file("grain.toml") + " -o " + first.string() +
+                              " --set numerics.cells_per_diameter=6 --set run.end_time=1e-4 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read_text(first / "particle_mesh.stl"), read_text(case_file("grain.stl")));
+  EXPECT_NE(read_text(first / "case.resolved.toml").find("file = \"particle_mesh.stl\""), std::string::npos);
+  const Result again = run_settle((first / "case.resolved.toml").string() + " -o " + second.string() + " --threads 1");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(read_text(first / "timeseries.csv"), read_text(second / "timeseries.csv"));
+  fs::remove_all(first);
+  fs::remove_all(second);
+}
+
+// run.stop_at_terminal feeds the analysis' own detector with every sample: the run ends at the
+// first sample where the criterion holds, and the analysis of the written series (the same
+// detector on the same numbers, read back at round-trip precision) finds it at exactly that time.
+// The summary carries the analysis and the correlations' predictions for the same particle.
+TEST(RunCli, StopsAtTheTerminalStateTheAnalysisFinds) {
+  const fs::path dir = scratch("terminal");
+  const Result r = run_settle("-o " + dir.string() +
+                              " --set numerics.cells_per_diameter=6 --set run.stop_at_terminal=true"
+                              " --set run.end_time=5 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
+  EXPECT_EQ(summary["stop_reason"], "terminal_state");
+  ASSERT_TRUE(summary["terminal_state"]["reached"].get<bool>());
+  EXPECT_EQ(summary["terminal_state"]["detected_at"].get<double>(), summary["simulated_time"].get<double>());
+  EXPECT_LT(summary["simulated_time"].get<double>(), 5.0);
+  EXPECT_EQ(summary["averaging"]["basis"], "terminal_window");
+  // Every law of settle predict, with its ratio to the simulated terminal speed.
+  ASSERT_EQ(summary["correlations"].size(), 7u);
+  for (const auto& law : summary["correlations"]) {
+    EXPECT_TRUE(law["law"].is_string());
+    EXPECT_TRUE(law["ratio_to_run"].is_number()) << law["law"];
+  }
+  fs::remove_all(dir);
+}
+
+// --quiet leaves warnings and errors only; the default prints the start-up lines and the end of
+// the run, with the timing of every sub-step.
+TEST(RunCli, QuietPrintsNothingButWarnings) {
+  const fs::path dir = scratch("quiet");
+  const Result quiet = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 --quiet");
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.err, "");
+  const Result normal = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1");
+  ASSERT_EQ(normal.status, 0) << normal.err;
+  for (const char* step : {"body_predictor", "markers", "forcing", "fluid", "hydrodynamic_force", "body_corrector"})
+    EXPECT_NE(normal.err.find(step), std::string::npos) << step;
+  EXPECT_EQ(run_settle("-o " + dir.string() + " --quiet --verbose").status, 2);
+  fs::remove_all(dir);
+}
+
+TEST(RunCli, CommandLineParseErrorsExitTwo) {
+  // An unknown flag and a malformed number are usage errors (exit 2, like a bad case key); --help succeeds.
+  EXPECT_EQ(run_settle("--no-such-flag").status, 2);
+  EXPECT_EQ(run_settle("--threads many").status, 2);
+  EXPECT_EQ(run_settle("--help").status, 0);
+}
+
+TEST(RunCli, ReferenceKeyIsCopiedIntoTheSummary) {
+  const fs::path dir = scratch("reference");
+  const Result r = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 " +
+                              "--set 'run.reference=\"tenCate2002_E1\"'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
+  EXPECT_EQ(summary.value("reference", std::string()), "tenCate2002_E1");
+  fs::remove_all(dir);
+}
+
+// The default spheroid (polar half-length 1 mm, d_eq = 1.26 mm, dx = d_eq / 8 = 0.1575 mm) upright
+// with its lowest point 3 cells above the floor, in a fixed window so that contact is on. The
+// stencil needs 1 cell (roma3), so only the contact start rule can refuse it: the spring reaches
+// 5 cells, and 2 W / k is about 1e-9 m (k = m pi^2 / (10 dt)^2), far below a cell.
+const char* kNearFloor = "--set domain.follow_particle=false --set particle.euler=[0,0,0] "
+                         "--set particle.position=[3.78e-3,3.78e-3,1.4725e-3] --set run.end_time=0.0025 --threads 1";
+
+TEST(RunCli, ParticleInsideTheContactDistanceIsRefused) {
+  const Result r = run_settle("-o " + scratch("near_floor").string() + " " + kNearFloor +
+                              " --set contact.distance_cells=5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("particle.position"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("contact.distance_cells"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(scratch("near_floor")));
+  // The same start is accepted with a shorter reach, and with contact off.
+  const fs::path dir = scratch("near_floor_ok");
+  EXPECT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor + " --set contact.distance_cells=2.5").status, 0);
+  EXPECT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor +
+                       " --set contact.distance_cells=5 --set contact.enabled=false").status, 0);
+  fs::remove_all(dir);
+}
+
+TEST(RunCli, ContactKeysOutOfRangeExitTwo) {
+  EXPECT_EQ(run_settle("-o " + scratch("e").string() + " --set contact.restitution=0").status, 2);
+  EXPECT_EQ(run_settle("-o " + scratch("e").string() + " --set contact.collision_steps=0.5").status, 2);
+  // 1.2 cells is inside the schema's range [1, 1000] but below peskin4's bound 2 - 0.5 = 1.5.
+  const Result r = run_settle("-o " + scratch("e").string() + " " + kNearFloor +
+                              " --set 'numerics.delta_kernel=\"peskin4\"' --set contact.distance_cells=1.2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("contact.distance_cells"), std::string::npos) << r.err;
+}
+
+// The contact columns follow the existing ones (never renamed). In the near-floor start (3 cells
+// above the floor, default reach 1.5 cells) the body is out of the spring's reach in 10 steps
+// (it sinks about 2e-6 m: 1/2 a t^2 with a ~ 0.6 m/s^2, t = 2.5 ms): zero contact force, and a
+// finite gap close to the start's 3 cells.
+TEST(RunCli, TimeseriesCarriesContactForceAndWallGap) {
+  const fs::path dir = scratch("contact_columns");
+  ASSERT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor).status, 0);
+  std::ifstream csv(dir / "timeseries.csv");
+  std::string header, row, last;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",slip_rms,Fcx,Fcy,Fcz,wall_gap"), std::string::npos) << header;
+  while (std::getline(csv, row)) last = row;
+  std::vector<double> values;
+  std::stringstream fields(last);
+  for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
+  ASSERT_GE(values.size(), 4u);
+  const double gap_m = values.back();
+  for (std::size_t i = values.size() - 4; i < values.size() - 1; ++i) EXPECT_EQ(values[i], 0.0);
+  // 3 cells of 0.1575 mm = 4.725e-4 m; 2 % allows the 10 steps' sinking (~2e-6 m, 0.4 %; measured
+  // 4.7058e-4 m) and the slight tilt the flow may give, while a wrong unit (cells) or a wrong wall
+  // would miss by far.
+  EXPECT_NEAR(gap_m, 4.725e-4, 0.02 * 4.725e-4);
+  fs::remove_all(dir);
+  // The default case's window follows the body: no contact walls, the documented -1.
+  ASSERT_EQ(run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1").status, 0);
+  std::ifstream following(dir / "timeseries.csv");
+  while (std::getline(following, row)) last = row;
+  EXPECT_EQ(last.substr(last.rfind(',') + 1), "-1");
+  fs::remove_all(dir);
+}
+
+// run.vtk_interval = 2 dt on a 10-step run (dt = 2.5e-4 s): files at steps 0, 2, ..., 10, i.e. six
+// of each kind, and both collections list six times. Counted exactly: the schedule is a closed rule.
+TEST(RunCli, VtkOutputOnItsOwnSchedule) {
+  const fs::path dir = scratch("vtk");
+  const Result r = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --set run.vtk_interval=0.0005 "
+                              "--threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  int fluid = 0, surface = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "vtk")) {
+    const std::string name = entry.path().filename().string();
+    fluid += name.rfind("fluid_", 0) == 0 && entry.path().extension() == ".vti";
+    surface += name.rfind("surface_", 0) == 0 && entry.path().extension() == ".vtp";
+  }
+  EXPECT_EQ(fluid, 6);
+  EXPECT_EQ(surface, 6);
+  EXPECT_TRUE(fs::exists(dir / "vtk" / "fluid_000005.vti"));
+  const std::string fluid_pvd = read_text(dir / "vtk" / "fluid.pvd");
+  const std::string surface_pvd = read_text(dir / "vtk" / "surface.pvd");
+  std::size_t datasets = 0;
+  for (auto at = fluid_pvd.find("<DataSet"); at != std::string::npos; at = fluid_pvd.find("<DataSet", at + 1)) ++datasets;
+  EXPECT_EQ(datasets, 6u);
+  EXPECT_NE(surface_pvd.find("surface_000005.vtp"), std::string::npos);
+  EXPECT_NE(read_text(dir / "vtk" / "fluid_000000.vti").find("solid_fraction"), std::string::npos);
+  EXPECT_EQ(r.err.find("VTK output is not implemented"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
 TEST(RunCli, UnknownKeyExitsTwoNamingIt) {
   const Result r = run_settle("-o " + scratch("bad").string() + " --set numerics.cells_per_diametre=8");
   EXPECT_EQ(r.status, 2);

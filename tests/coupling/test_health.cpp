@@ -1,12 +1,20 @@
-// Numerical health checks (coupling/health.hpp) and the run loop's stop conditions
-// (coupling/runner.hpp) on a small fixed sphere in a periodic box.
+// Numerical health checks (coupling/health.hpp) and the run loop's stop conditions, checkpoint
+// hook and continuation (coupling/runner.hpp) on a small fixed sphere in a periodic box.
+#include <unistd.h>
+
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
+#include "coupling/checkpoint_state.hpp"
 #include "coupling/health.hpp"
 #include "coupling/runner.hpp"
 #include "periodic_sphere.hpp"
@@ -106,6 +114,95 @@ TEST(Runner, InterruptedEndsTheRunAfterTheCurrentStepAndSamplesIt) {
   EXPECT_EQ(r.stop_reason, "interrupted");
   EXPECT_EQ(r.steps, 7);
   EXPECT_DOUBLE_EQ(r.samples.back().t_si, 7.0);  // the state at the stop is the last row
+}
+
+// Checkpoints every 10 steps (dt = 1) of a 40-step run: after steps 10, 20, 30 and 40, none at the
+// start; each with the loop's state at that step (samples every 4 steps: 0, 4, 8 before step 10).
+TEST(Runner, CheckpointIsDueAtEachIntervalWithTheLoopState) {
+  Simulation sim(small_setup());
+  RunCallbacks callbacks;
+  callbacks.checkpoint_interval_si = 10.0;
+  std::vector<RunStart> states;
+  callbacks.checkpoint_due = [&](const RunStart& state) { states.push_back(state); };
+  const RunResult r = run(sim, callbacks);
+  ASSERT_EQ(states.size(), 4u);
+  for (std::size_t i = 0; i < states.size(); ++i) EXPECT_EQ(states[i].step, 10 * static_cast<std::int64_t>(i + 1));
+  EXPECT_EQ(states[0].next_output_index, 3);
+  ASSERT_EQ(states[0].samples.size(), 3u);
+  EXPECT_DOUBLE_EQ(states[0].samples.back().t_si, 8.0);
+  EXPECT_EQ(states[3].samples.size(), r.samples.size());  // step 40 is sampled before its checkpoint
+  EXPECT_EQ(r.samples.size(), 11u);  // the samples lent to the callback came back
+}
+
+// An interruption hands over a checkpoint at its step whatever the interval (here none).
+TEST(Runner, InterruptionHandsOverACheckpointAtItsStep) {
+  Simulation sim(small_setup());
+  RunCallbacks callbacks;
+  int checks = 0;
+  callbacks.interrupted = [&] { return ++checks == 7; };
+  std::vector<std::int64_t> steps;
+  callbacks.checkpoint_due = [&](const RunStart& state) { steps.push_back(state.step); };
+  EXPECT_EQ(run(sim, callbacks).stop_reason, "interrupted");
+  EXPECT_EQ(steps, std::vector<std::int64_t>{7});
+}
+
+// A run continued from a checkpoint (written at step 20, the run then interrupted at step 23) into a
+// fresh simulation gives the uninterrupted run's result: the same samples bit for bit (time, forces,
+// slip; the restart test covers the body and fluid state), no sample twice or missing, the same
+// step count and summary. Exact equality: the same build and thread count in one process, and the
+// restart is bit for bit (coupling/checkpoint_state.hpp).
+TEST(Runner, ContinuedRunEqualsTheUninterruptedRun) {
+  Simulation straight(small_setup());
+  const RunResult expected = run(straight, RunCallbacks{});
+
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("settle_runner_" + std::to_string(::getpid()) + ".ckpt");
+  RunStart saved;
+  {
+    Simulation first(small_setup());
+    RunCallbacks callbacks;
+    callbacks.checkpoint_interval_si = 20.0;
+    callbacks.checkpoint_due = [&](const RunStart& state) {
+      if (state.step != 20) return;
+      saved = state;
+      write_checkpoint(first, CheckpointCallerData{}, file);
+    };
+    int checks = 0;
+    callbacks.interrupted = [&] { return ++checks == 23; };
+    ASSERT_EQ(run(first, callbacks).stop_reason, "interrupted");
+  }
+  Simulation second(small_setup());
+  SimulationCheckpoint(file).restore(second);
+  std::filesystem::remove(file);
+  const RunResult continued = run(second, RunCallbacks{}, saved);
+
+  EXPECT_EQ(continued.stop_reason, "end_time");
+  EXPECT_EQ(continued.steps, expected.steps);
+  ASSERT_EQ(continued.samples.size(), expected.samples.size());
+  for (std::size_t i = 0; i < expected.samples.size(); ++i) {
+    const Sample& a = expected.samples[i];
+    const Sample& b = continued.samples[i];
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a.t_si), std::bit_cast<std::uint64_t>(b.t_si)) << i;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(a.hydrodynamic.force_si[k]),
+                std::bit_cast<std::uint64_t>(b.hydrodynamic.force_si[k])) << i;
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(a.relative_flow_si[k]),
+                std::bit_cast<std::uint64_t>(b.relative_flow_si[k])) << i;
+    }
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a.slip_max_si), std::bit_cast<std::uint64_t>(b.slip_max_si)) << i;
+  }
+  const RunSummary s_expected = summarise(straight, expected);
+  const RunSummary s_continued = summarise(second, continued);
+  EXPECT_EQ(s_continued.drag_coefficient, s_expected.drag_coefficient);
+  EXPECT_EQ(s_continued.averaged_samples, s_expected.averaged_samples);
+}
+
+// A start that does not match the simulation's step is a programming error, refused.
+TEST(Runner, StartStepMustMatchTheSimulation) {
+  Simulation sim(small_setup());
+  RunStart start;
+  start.step = 5;
+  EXPECT_THROW(run(sim, RunCallbacks{}, start), std::invalid_argument);
 }
 
 }  // namespace

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "common/error.hpp"
 #include "io/schema.hpp"
@@ -171,6 +174,7 @@ TEST(Schema, MarkdownTableListsEveryKey) {
 }  // namespace settle::io
 
 #include "io/case_schema.hpp"
+#include "lbm/config.hpp"
 
 namespace settle::io {
 namespace {
@@ -189,6 +193,28 @@ TEST(CaseSchema, EveryDefaultSatisfiesItsOwnDeclarationAndTheDesignKeysExist) {
         "run.end_time", "run.output_interval", "run.vtk_interval", "run.stop_at_terminal",
         "run.checkpoint_interval"})
     EXPECT_NE(schema.find(key), nullptr) << key;
+}
+
+// The schema lists the allowed names and the fluid solver parses them: a name offered by one and
+// refused by the other would pass the case check and fail only when the run starts.
+TEST(CaseSchema, EveryNumericsChoiceIsOneTheFluidSolverAccepts) {
+  const Schema& schema = case_schema();
+  for (const std::string& name : schema.find("numerics.collision")->choices)
+    EXPECT_NO_THROW(lbm::parse_collision(name, "numerics.collision")) << name;
+  for (const std::string& name : schema.find("numerics.lattice")->choices)
+    EXPECT_NO_THROW(lbm::parse_lattice(name, "numerics.lattice")) << name;
+  for (const std::string& name : schema.find("numerics.precision")->choices)
+    EXPECT_NO_THROW(lbm::parse_precision(name, "numerics.precision")) << name;
+}
+
+// The user guide's key table is generated from the declaration (`settle schema --markdown`); a
+// key added, renamed or re-documented without regenerating the page fails here.
+TEST(CaseSchema, TheUserGuideHoldsTheCurrentKeyTable) {
+  std::ifstream in(std::string(SETTLE_SOURCE_DIR) + "/docs/case-file.md");
+  std::stringstream page;
+  page << in.rdbuf();
+  EXPECT_NE(page.str().find(schema_markdown(case_schema())), std::string::npos)
+      << "docs/case-file.md: regenerate the key table with `settle schema --markdown`";
 }
 
 TEST(CaseSchema, TheDesignDocumentsExampleCaseParses) {

@@ -1,0 +1,54 @@
+#pragma once
+// What `settle run` tells the user on stderr, by verbosity: --quiet keeps warnings only (and the
+// errors main() prints), the default adds the start-up lines, the progress and the end-of-run
+// report, --verbose adds the preflight details and the sub-step timing. On a terminal the progress
+// line is rewritten in place; in a log (CI, a batch job) it is printed as a new line each time.
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+
+#include <fmt/core.h>
+
+namespace settle::app {
+
+enum class Verbosity { quiet, normal, verbose };
+
+class Console {
+ public:
+  explicit Console(Verbosity verbosity) : verbosity_(verbosity), terminal_(isatty(fileno(stderr)) == 1) {}
+
+  void warning(const std::string& text) { line("warning: " + text); }
+  void info(const std::string& text) {
+    if (verbosity_ != Verbosity::quiet) line(text);
+  }
+  void detail(const std::string& text) {
+    if (verbosity_ == Verbosity::verbose) line(text);
+  }
+  void progress(const std::string& text) {
+    if (verbosity_ == Verbosity::quiet) return;
+    if (!terminal_) return line(text);
+    // \r and clear to the end of the line (ANSI EL): a shorter line leaves nothing behind.
+    fmt::print(stderr, "\rsettle run: {}\x1b[K", text);
+    std::fflush(stderr);
+    progress_open_ = true;
+  }
+  /// Wall seconds between progress reports: often in place on a terminal, sparingly in a log.
+  double progress_interval_s() const {
+    if (terminal_) return 1.0;
+    return verbosity_ == Verbosity::verbose ? 2.0 : 10.0;
+  }
+
+ private:
+  void line(const std::string& text) {
+    if (progress_open_) fmt::print(stderr, "\n");
+    progress_open_ = false;
+    fmt::print(stderr, "settle run: {}\n", text);
+  }
+
+  Verbosity verbosity_;
+  bool terminal_;
+  bool progress_open_ = false;
+};
+
+}  // namespace settle::app

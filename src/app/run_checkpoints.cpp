@@ -1,0 +1,294 @@
+#include "app/run_checkpoints.hpp"
+
+#include <fcntl.h>
+#include <fmt/core.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "io/case_schema.hpp"
+
+namespace settle::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Names of the caller's data in the checkpoint (docs/checkpoints.md, "settle run's sections").
+constexpr const char* kOutputNextIndex = "run/output_next_index";
+constexpr const char* kWallSeconds = "run/wall_seconds";
+constexpr const char* kTimeseriesBytes = "run/timeseries_bytes";
+constexpr const char* kVtkNextIndex = "run/vtk_next_index";
+constexpr const char* kVtkFilesWritten = "run/vtk_files_written";
+constexpr const char* kThreads = "run/threads";
+constexpr const char* kSamplesBlob = "run/samples";
+constexpr const char* kCaseNameBlob = "run/case_name";
+
+fs::path timeseries_path(const fs::path& run_dir) { return run_dir / "timeseries.csv"; }
+
+void write_sample(io::RecordWriter& out, const coupling::Sample& s) {
+  out.f64(s.t_si);
+  out.vec3(s.position_si);
+  out.vec3(s.velocity_si);
+  out.vec3(s.angular_velocity_n_si);
+  out.vec3(s.angular_velocity_b_si);
+  // The chart as it is (set and angles), not a matrix: the sample's set and angles come back exactly.
+  out.u32(s.attitude.set() == attitude::EulerSet::set1 ? 1 : 2);
+  out.vec3(s.attitude.angles());
+  out.vec3(s.hydrodynamic.force_si);
+  out.vec3(s.hydrodynamic.torque_si);
+  out.f64(s.reynolds);
+  out.vec3(s.relative_flow_si);
+  out.f64(s.slip_max_si);
+  out.f64(s.slip_rms_si);
+  out.vec3(s.contact.force_si);
+  out.vec3(s.contact.torque_si);
+  out.f64(s.wall_gap_si);
+}
+
+coupling::Sample read_sample(io::RecordReader& in, const std::string& section) {
+  coupling::Sample s;
+  s.t_si = in.f64();
+  s.position_si = in.vec3();
+  s.velocity_si = in.vec3();
+  s.angular_velocity_n_si = in.vec3();
+  s.angular_velocity_b_si = in.vec3();
+  const std::uint32_t set = in.u32();
+  if (set != 1 && set != 2)
+    throw io::CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", section, set));
+  s.attitude = attitude::Attitude(set == 1 ? attitude::EulerSet::set1 : attitude::EulerSet::set2, in.vec3());
+  s.hydrodynamic.force_si = in.vec3();
+  s.hydrodynamic.torque_si = in.vec3();
+  s.reynolds = in.f64();
+  s.relative_flow_si = in.vec3();
+  s.slip_max_si = in.f64();
+  s.slip_rms_si = in.f64();
+  s.contact.force_si = in.vec3();
+  s.contact.torque_si = in.vec3();
+  s.wall_gap_si = in.f64();
+  return s;
+}
+
+std::size_t sample_record_bytes() {
+  io::RecordWriter one;
+  write_sample(one, coupling::Sample{});
+  return one.take().size();
+}
+
+// A whole number stored as a caller value (exact in a double up to 2^53).
+std::int64_t whole_value(const coupling::CheckpointCallerData& caller, const char* name) {
+  const auto it = caller.values.find(name);
+  if (it == caller.values.end())
+    throw io::CheckpointError(fmt::format("the checkpoint has no value '{}' (not written by settle run?)", name));
+  const double value = it->second;
+  if (!(value >= 0.0 && value <= 9007199254740992.0 && std::floor(value) == value))
+    throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a count", name, value));
+  return static_cast<std::int64_t>(value);
+}
+
+const std::vector<std::byte>& blob(const coupling::CheckpointCallerData& caller, const char* name) {
+  const auto it = caller.blobs.find(name);
+  if (it == caller.blobs.end())
+    throw io::CheckpointError(fmt::format("the checkpoint has no record '{}' (not written by settle run?)", name));
+  return it->second;
+}
+
+// The rows of timeseries.csv up to now reach the disk before the checkpoint that counts them does.
+void sync_to_disk(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    throw io::CheckpointError(fmt::format("{}: cannot open it to flush it before the checkpoint", file.string()));
+  const bool synced = ::fsync(fd) == 0;
+  ::close(fd);
+  if (!synced)
+    throw io::CheckpointError(fmt::format("{}: cannot flush it to the disk before the checkpoint", file.string()));
+}
+
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free atomic");
+
+void on_stop_signal(int signal_number) {
+  // Only the first signal counts; a second one (Ctrl-C again while the checkpoint is written) is
+  // ignored: the run stops at the end of the current step anyway.
+  int none = 0;
+  g_stop_signal.compare_exchange_strong(none, signal_number);
+}
+
+std::string signal_name(int signal_number) {
+  if (signal_number == SIGINT) return "SIGINT";
+  if (signal_number == SIGTERM) return "SIGTERM";
+  return fmt::format("signal {}", signal_number);
+}
+
+}  // namespace
+
+std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples) {
+  io::RecordWriter out;
+  out.u64(samples.size());
+  for (const coupling::Sample& s : samples) write_sample(out, s);
+  return out.take();
+}
+
+std::vector<coupling::Sample> samples_from_record(std::span<const std::byte> record, const std::string& section) {
+  io::RecordReader in(record, section);
+  const std::uint64_t count = in.u64();
+  // Checked before anything is allocated: a corrupt count must not ask for terabytes.
+  if (record.size() - sizeof count != count * sample_record_bytes())
+    throw io::CheckpointError(
+        fmt::format("checkpoint section '{}': {} bytes cannot hold {} samples", section, record.size(), count));
+  std::vector<coupling::Sample> samples;
+  samples.reserve(count);
+  for (std::uint64_t i = 0; i < count; ++i) samples.push_back(read_sample(in, section));
+  in.expect_end();
+  return samples;
+}
+
+void check_restart_flags(const std::string& restart_dir, const std::string& case_file,
+                         const std::vector<std::string>& overrides, const std::string& output_dir) {
+  if (restart_dir.empty()) return;
+  const std::string why =
+      "the case, its settings and the output directory of a restart are those stored in the "
+      "checkpoint";
+  if (!case_file.empty())
+    throw InputError(
+        fmt::format("--restart {} and the case file {} exclude each other: {}", restart_dir, case_file, why));
+  if (!overrides.empty())
+    throw InputError(
+        fmt::format("--restart {} and --set {} exclude each other: {}", restart_dir, overrides.front(), why));
+  if (!output_dir.empty())
+    throw InputError(fmt::format("--restart {} and -o {} exclude each other: {} (the run continues in {})", restart_dir,
+                                 output_dir, why, restart_dir));
+}
+
+void remove_earlier_checkpoint(const fs::path& run_dir) {
+  for (const fs::path& file : {run_dir / kCheckpointFileName, run_dir / (std::string(kCheckpointFileName) + ".tmp")}) {
+    std::error_code error;
+    fs::remove(file, error);
+    if (error)
+      throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", file.string(), error.message()));
+  }
+}
+
+// RunCheckpoints
+
+RunCheckpoints::RunCheckpoints(fs::path run_dir, std::string resolved_case, std::string case_name)
+    : run_dir_(std::move(run_dir)),
+      file_(run_dir_ / kCheckpointFileName),
+      resolved_case_(std::move(resolved_case)),
+      case_name_(std::move(case_name)) {}
+
+void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunStart& loop,
+                           const VtkProgress& vtk) const {
+  const fs::path timeseries = timeseries_path(run_dir_);
+  sync_to_disk(timeseries);
+  std::error_code error;
+  const std::uintmax_t timeseries_bytes = fs::file_size(timeseries, error);
+  if (error)
+    throw io::CheckpointError(
+        fmt::format("{}: cannot measure it for the checkpoint: {}", timeseries.string(), error.message()));
+  coupling::CheckpointCallerData data;
+  data.resolved_case = resolved_case_;
+  data.values[kOutputNextIndex] = static_cast<double>(loop.next_output_index);
+  data.values[kWallSeconds] = loop.wall_seconds;
+  data.values[kTimeseriesBytes] = static_cast<double>(timeseries_bytes);
+  data.values[kVtkNextIndex] = static_cast<double>(vtk.next_index);
+  data.values[kVtkFilesWritten] = static_cast<double>(vtk.files_written);
+  data.values[kThreads] = static_cast<double>(omp_get_max_threads());
+  data.blobs[kSamplesBlob] = samples_record(loop.samples);
+  const auto name = std::as_bytes(std::span(case_name_));
+  data.blobs[kCaseNameBlob] = std::vector<std::byte>(name.begin(), name.end());
+  coupling::write_checkpoint(sim, data, file_);
+}
+
+// RestartPoint
+
+RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), file_(run_dir_ / kCheckpointFileName) {
+  std::error_code error;
+  if (!fs::is_directory(run_dir_, error))
+    throw InputError(fmt::format("--restart {}: no such run directory", run_dir_.string()));
+  if (!fs::exists(file_, error))
+    throw io::CheckpointError(
+        fmt::format("{}: no checkpoint to restart from (settle run writes one every "
+                    "run.checkpoint_interval and when SIGINT or SIGTERM stops it)",
+                    file_.string()));
+  try {
+    checkpoint_.emplace(file_);
+    const coupling::CheckpointCallerData& caller = checkpoint_->caller();
+    resolved_case_ = caller.resolved_case;
+    const auto& name = blob(caller, kCaseNameBlob);
+    case_name_.assign(reinterpret_cast<const char*>(name.data()), name.size());
+    time_si_ = checkpoint_->time_si();
+    timeseries_bytes_ = static_cast<std::uintmax_t>(whole_value(caller, kTimeseriesBytes));
+    vtk_.next_index = whole_value(caller, kVtkNextIndex);
+    const std::int64_t files = whole_value(caller, kVtkFilesWritten);
+    if (files > std::numeric_limits<int>::max())
+      throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kVtkFilesWritten, files));
+    vtk_.files_written = static_cast<int>(files);
+    loop_.step = checkpoint_->steps();
+    loop_.next_output_index = whole_value(caller, kOutputNextIndex);
+    loop_.wall_seconds = caller.values.count(kWallSeconds) ? caller.values.at(kWallSeconds) : 0.0;
+    const std::int64_t threads = whole_value(caller, kThreads);
+    if (threads < 1 || threads > std::numeric_limits<int>::max())
+      throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kThreads, threads));
+    threads_ = static_cast<int>(threads);
+    loop_.samples = samples_from_record(blob(caller, kSamplesBlob), std::string("caller/blob/") + kSamplesBlob);
+  } catch (const io::CheckpointError& e) {
+    // Every message names the file (the section readers name only the section).
+    const std::string message = e.what();
+    if (message.rfind(file_.string(), 0) == 0) throw;
+    throw io::CheckpointError(fmt::format("{}: {}", file_.string(), message));
+  }
+  values_.emplace(io::parse_case(io::case_schema(), resolved_case_, file_.string() + " (its resolved case)"));
+
+  const fs::path timeseries = timeseries_path(run_dir_);
+  const std::uintmax_t size = fs::file_size(timeseries, error);
+  if (error)
+    throw InputError(
+        fmt::format("{}: cannot continue the run: {} ({})", file_.string(), timeseries.string(), error.message()));
+  if (size < timeseries_bytes_)
+    throw InputError(
+        fmt::format("{}: cannot continue the run: {} holds {} bytes, fewer than the {} it held at the "
+                    "checkpoint (rows before the checkpoint are missing)",
+                    file_.string(), timeseries.string(), size, timeseries_bytes_));
+}
+
+void RestartPoint::restore(coupling::Simulation& sim) {
+  if (!checkpoint_) throw std::logic_error("RestartPoint::restore: already restored");
+  checkpoint_->restore(sim);
+  checkpoint_.reset();  // gives back the mapping of the file (as large as the fluid)
+}
+
+// InterruptSignals
+
+InterruptSignals::InterruptSignals() {
+  g_stop_signal.store(0);
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  // Restart interrupted system calls (file writes): the loop polls the flag between steps.
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &action, &previous_int_);
+  sigaction(SIGTERM, &action, &previous_term_);
+}
+
+InterruptSignals::~InterruptSignals() {
+  sigaction(SIGINT, &previous_int_, nullptr);
+  sigaction(SIGTERM, &previous_term_, nullptr);
+}
+
+bool InterruptSignals::raised() const { return g_stop_signal.load(std::memory_order_relaxed) != 0; }
+int InterruptSignals::signal_number() const { return g_stop_signal.load(); }
+
+RunInterrupted interrupted_error(int signal_number, const coupling::RunResult& result, const fs::path& run_dir,
+                                 const fs::path& checkpoint) {
+  return RunInterrupted(
+      fmt::format("run interrupted by {} at t = {:.6g} s (step {}): checkpoint written to {}; the run is not "
+                  "finished, so no summary.json was written. Continue it with: settle run --restart {}",
+                  signal_name(signal_number), result.simulated_time_si, result.steps, checkpoint.string(),
+                  run_dir.string()),
+      signal_number);
+}
+
+}  // namespace settle::app

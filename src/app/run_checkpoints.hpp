@@ -1,0 +1,139 @@
+#pragma once
+// Checkpoints of `settle run` (docs/checkpoints.md): DIR/checkpoint.bin every run.checkpoint_interval
+// of simulated time and when SIGINT or SIGTERM stops the run, and `settle run --restart DIR`, which
+// continues the run in DIR from it as if it had never stopped.
+//
+// A checkpoint holds the simulation (coupling/checkpoint_state.hpp) and what the front end needs to
+// continue its outputs: the resolved case text (exactly case.resolved.toml), the case's name, the
+// run loop's state (coupling::RunStart: step, the sample schedule's next index, the samples so far,
+// the wall time so far), the VTK schedule and file count, the OpenMP thread count, and the length of
+// timeseries.csv at that moment (a restart cuts the file back to it: rows written after the
+// checkpoint are written again).
+#include <atomic>
+#include <csignal>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "coupling/checkpoint_state.hpp"
+#include "coupling/runner.hpp"
+#include "coupling/simulation.hpp"
+#include "io/schema.hpp"
+
+namespace settle::app {
+
+/// File name of the checkpoint inside the run directory.
+inline constexpr const char* kCheckpointFileName = "checkpoint.bin";
+
+/// Where the VTK output (run.vtk_interval) stands: what a checkpoint stores to continue it.
+struct VtkProgress {
+  std::int64_t next_index = 0;  ///< coupling::OutputSchedule::next_index() of the VTK schedule
+  int files_written = 0;        ///< the number NNNNNN of the next fluid_NNNNNN.vti / surface_NNNNNN.vtp
+};
+
+/// The samples as a checkpoint record (io::RecordWriter): every coupling::Sample field, bit for bit.
+std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples);
+/// The inverse of samples_record. io::CheckpointError naming `section` when the record is malformed.
+std::vector<coupling::Sample> samples_from_record(std::span<const std::byte> record, const std::string& section);
+
+/// `--restart DIR` takes the case, its overrides and its directory from the checkpoint: a case file,
+/// --set or -o next to it is refused (settle::InputError naming both flags).
+void check_restart_flags(const std::string& restart_dir, const std::string& case_file,
+                         const std::vector<std::string>& overrides, const std::string& output_dir);
+
+/// A fresh run into DIR removes an earlier run's DIR/checkpoint.bin (and its .tmp): restarting from
+/// it would cut the new timeseries.csv to the old run's length. settle::InputError naming the file
+/// when it cannot be removed.
+void remove_earlier_checkpoint(const std::filesystem::path& run_dir);
+
+/// Writes DIR/checkpoint.bin for one run (atomically: the previous checkpoint stays whole until
+/// the new one is complete).
+class RunCheckpoints {
+ public:
+  RunCheckpoints(std::filesystem::path run_dir, std::string resolved_case, std::string case_name);
+
+  /// The simulation, the loop's state and the front end's. timeseries.csv must hold every row
+  /// handed out so far (TimeseriesWriter flushes each row); it is synced to the disk first, so
+  /// that the length stored is there after a crash.
+  void write(const coupling::Simulation& simulation, const coupling::RunStart& loop, const VtkProgress& vtk) const;
+  const std::filesystem::path& file() const { return file_; }
+
+ private:
+  std::filesystem::path run_dir_;
+  std::filesystem::path file_;
+  std::string resolved_case_;
+  std::string case_name_;
+};
+
+/// `settle run --restart DIR`: DIR/checkpoint.bin opened, verified and decoded, before anything in
+/// DIR is changed. Every refusal is an io::CheckpointError or settle::InputError (exit 2) naming
+/// the file.
+class RestartPoint {
+ public:
+  explicit RestartPoint(std::filesystem::path run_dir);
+
+  const std::filesystem::path& run_dir() const { return run_dir_; }
+  const std::filesystem::path& file() const { return file_; }
+  /// The resolved case text stored in the checkpoint, and its values (relative paths in it, e.g.
+  /// the mesh copy particle_mesh.stl, are relative to run_dir()).
+  const std::string& resolved_case() const { return resolved_case_; }
+  const io::CaseValues& case_values() const { return *values_; }
+  const std::string& case_name() const { return case_name_; }
+  double time_si() const { return time_si_; }
+  std::uintmax_t timeseries_bytes() const { return timeseries_bytes_; }
+  const VtkProgress& vtk() const { return vtk_; }
+  /// OpenMP threads of the run that wrote the checkpoint (the restart's default: bit-for-bit
+  /// continuation needs the same count).
+  int threads() const { return threads_; }
+  /// The loop's state at the checkpoint (its samples included).
+  const coupling::RunStart& loop() const { return loop_; }
+
+  /// Puts the saved state into `simulation`, built from case_values(), and releases the file's
+  /// memory mapping (restore once).
+  void restore(coupling::Simulation& simulation);
+  /// Hands the loop's state to coupling::run (moves the samples out).
+  coupling::RunStart take_loop_state() { return std::move(loop_); }
+
+ private:
+  std::filesystem::path run_dir_;
+  std::filesystem::path file_;
+  std::optional<coupling::SimulationCheckpoint> checkpoint_;
+  std::string resolved_case_;
+  std::optional<io::CaseValues> values_;
+  std::string case_name_;
+  double time_si_ = 0.0;
+  std::uintmax_t timeseries_bytes_ = 0;
+  VtkProgress vtk_;
+  int threads_ = 1;
+  coupling::RunStart loop_;
+};
+
+/// SIGINT and SIGTERM, while this object lives, only set a flag (async-signal-safe: a lock-free
+/// atomic store): the run loop polls raised() after every step and stops there. The previous
+/// handlers come back on destruction. One object at a time.
+class InterruptSignals {
+ public:
+  InterruptSignals();
+  ~InterruptSignals();
+  InterruptSignals(const InterruptSignals&) = delete;
+  InterruptSignals& operator=(const InterruptSignals&) = delete;
+
+  bool raised() const;
+  /// The signal that arrived first (0: none).
+  int signal_number() const;
+
+ private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+/// The settle::RunInterrupted for a run that `signal_number` stopped after writing `checkpoint`: the
+/// message says where the run stopped, that no summary.json was written and how to continue.
+RunInterrupted interrupted_error(int signal_number, const coupling::RunResult& result,
+                                 const std::filesystem::path& run_dir, const std::filesystem::path& checkpoint);
+
+}  // namespace settle::app

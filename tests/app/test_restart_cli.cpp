@@ -1,0 +1,294 @@
+// Case tests of checkpoints in `settle run` and of `settle run --restart DIR` (docs/checkpoints.md):
+// the real binary (SETTLE_BINARY) on the default case, coarsened to 6 cells per diameter (36 x 36 x
+// 72 cells, 89 steps of 0.34 ms to t = 0.03 s, about a second on one thread).
+//  - A run killed with SIGKILL after a checkpoint and continued with --restart writes the same
+//    timeseries.csv, byte for byte, and the same summary.json (wall-time fields aside) as the run
+//    that went straight through. Exact equality is the claim: with one thread and the same build the
+//    restart is bit for bit (coupling/checkpoint_state.hpp) and the CSV holds every double at
+//    round-trip precision, so any difference is a fault.
+//  - SIGTERM and SIGINT stop the run with a checkpoint (also when run.checkpoint_interval is 0), exit
+//    status 128 + signal and no summary.json; the restart completes identically.
+//  - --restart refuses a directory without a checkpoint, a truncated checkpoint, and a case file or
+//    --set beside it: exit status 2, a message naming the file or flag, the directory untouched.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using settle::test::read_text;
+using settle::test::scratch;
+using Result = settle::test::CliResult;
+
+const std::vector<std::string> kCase{"--set", "numerics.cells_per_diameter=6", "--set",     "run.end_time=0.03",
+                                     "--set", "run.output_interval=0.0025",    "--threads", "1"};
+
+std::string joined(const std::vector<std::string>& words) {
+  std::string text;
+  for (const auto& w : words) text += " " + w;
+  return text;
+}
+
+Result run_settle(const std::string& arguments) { return settle::test::run_settle("run", arguments); }
+
+/// `settle run` started in the background (fork and exec), its stderr in a file.
+class Background {
+ public:
+  explicit Background(const std::vector<std::string>& arguments, const fs::path& stderr_file) {
+    const char* binary = std::getenv("SETTLE_BINARY");
+    if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
+    std::vector<std::string> words{binary, "run"};
+    words.insert(words.end(), arguments.begin(), arguments.end());
+    pid_ = ::fork();
+    if (pid_ < 0) throw std::runtime_error("fork failed");
+    if (pid_ == 0) {
+      if (!std::freopen(stderr_file.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) ::_exit(127);
+      std::vector<char*> argv;
+      for (auto& w : words) argv.push_back(w.data());
+      argv.push_back(nullptr);
+      ::execv(binary, argv.data());
+      ::_exit(127);
+    }
+  }
+  ~Background() {
+    if (pid_ > 0 && !reaped_) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  void signal(int number) const {
+    if (!reaped_) ::kill(pid_, number);
+  }
+  /// The raw wait status.
+  int wait() {
+    if (!reaped_) ::waitpid(pid_, &status_, 0);
+    reaped_ = true;
+    return status_;
+  }
+  bool running() {
+    if (!reaped_ && ::waitpid(pid_, &status_, WNOHANG) == pid_) reaped_ = true;
+    return !reaped_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool reaped_ = false;
+  int status_ = 0;
+};
+
+/// Times of the complete rows of a timeseries.csv (its first column).
+std::vector<double> row_times(const fs::path& csv) {
+  std::vector<double> times;
+  std::istringstream text(read_text(csv));
+  std::string line;
+  std::getline(text, line);  // header
+  while (std::getline(text, line))
+    if (!text.eof()) times.push_back(std::stod(line.substr(0, line.find(','))));
+  return times;
+}
+
+/// Polls (every 2 ms, at most 30 s) until `ready` holds or the process ended; true if it holds.
+template <class Condition>
+bool wait_until(Background& process, Condition ready) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (ready()) return true;
+    if (!process.running()) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return false;
+}
+
+/// summary.json without what depends on the wall clock (wall time, MLUPS, the sub-step timers).
+nlohmann::json physics_of_summary(const fs::path& dir) {
+  nlohmann::json j = nlohmann::json::parse(read_text(dir / "summary.json"));
+  for (const char* key : {"wall_seconds", "mlups", "timing"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+    j.erase(key);
+  }
+  return j;
+}
+
+/// The restart's "continuing from ... at t = X s" line: the checkpoint's time.
+double restart_time(const std::string& err) {
+  const auto at = err.find("continuing from");
+  if (at == std::string::npos) return -1.0;
+  const auto t = err.find("at t = ", at);
+  return t == std::string::npos ? -1.0 : std::stod(err.substr(t + 7));
+}
+
+/// Every file under `dir` with its bytes.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = read_text(entry.path());
+  return files;
+}
+
+class RestartCli : public ::testing::Test {
+ protected:
+  /// The uninterrupted reference run, once for all tests.
+  static void SetUpTestSuite() {
+    straight_ = new fs::path(scratch("restart_straight"));
+    const Result r = run_settle("-o " + straight_->string() + joined(kCase));
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*straight_);
+    delete straight_;
+  }
+  static fs::path* straight_;
+
+  /// Continues `dir` with --restart and checks the result against the uninterrupted run `reference`
+  /// (by default the fixture's); returns the time the restart continued from.
+  static double restart_and_compare(const fs::path& dir, const fs::path* reference = nullptr) {
+    const fs::path& straight = reference ? *reference : *straight_;
+    const std::string resolved_case = read_text(dir / "case.resolved.toml");
+    const Result r = run_settle("--restart " + dir.string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(straight / "timeseries.csv"));
+    EXPECT_EQ(physics_of_summary(dir), physics_of_summary(straight));
+    EXPECT_EQ(read_text(dir / "case.resolved.toml"), resolved_case);  // rewritten from the checkpoint
+    return restart_time(r.err);
+  }
+};
+fs::path* RestartCli::straight_ = nullptr;
+
+// Killed with SIGKILL (nothing of settle runs: only the checkpoint on the disk counts) after the
+// checkpoint at t = 0.02 s and after rows later than it reached the CSV, so that the restart must cut
+// them off and write them again.
+TEST_F(RestartCli, KilledRunContinuesToTheUninterruptedResult) {
+  const fs::path dir = scratch("restart_killed");
+  std::vector<std::string> arguments{"-o", dir.string(), "--set", "run.checkpoint_interval=0.02"};
+  arguments.insert(arguments.end(), kCase.begin(), kCase.end());
+  Background run(arguments, scratch("restart_killed.err"));
+  const bool ready = wait_until(run, [&] {
+    if (!fs::exists(dir / "checkpoint.bin")) return false;
+    const std::vector<double> times = row_times(dir / "timeseries.csv");
+    return !times.empty() && times.back() > 0.0201;  // the row after the checkpoint's (0.0225)
+  });
+  run.signal(SIGKILL);
+  const int status = run.wait();
+  ASSERT_TRUE(ready) << "the run ended before its first checkpoint";
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  const std::vector<double> times_at_kill = row_times(dir / "timeseries.csv");
+
+  const double checkpoint_t = restart_and_compare(dir);
+  ASSERT_GT(checkpoint_t, 0.0);
+  // The killed run had rows past its checkpoint: the restart cut them and wrote them again.
+  EXPECT_GT(times_at_kill.back(), checkpoint_t);
+  fs::remove_all(dir);
+  fs::remove(scratch("restart_killed.err"));
+}
+
+// SIGTERM with run.checkpoint_interval = 0 (the default): the signal alone makes the checkpoint. A
+// fixed sphere in a periodic box (32^3 cells, 461 steps to t = 0.3 s, about a second), whose summary
+// (mean force, drag coefficient, averaged_samples) is the average of the run loop's samples over the
+// second half: stopped in that half, the restart must carry the samples before the stop over.
+TEST_F(RestartCli, TerminatedRunExits143WithACheckpointAndNoSummary) {
+  const std::string case_file = std::string(SETTLE_SOURCE_DIR) + "/cases/periodic_sphere_array.toml";
+  const std::vector<std::string> fixed_case{case_file, "--set", "run.end_time=0.3", "--threads", "1"};
+  const fs::path reference = scratch("restart_term_straight");
+  ASSERT_EQ(run_settle("-o " + reference.string() + joined(fixed_case)).status, 0);
+
+  const fs::path dir = scratch("restart_term");
+  const fs::path err = scratch("restart_term.err");
+  std::vector<std::string> arguments{"-o", dir.string()};
+  arguments.insert(arguments.end(), fixed_case.begin(), fixed_case.end());
+  Background run(arguments, err);
+  // Rows after t = 0 are written inside the run loop, after the handlers were installed.
+  const bool ready = wait_until(run, [&] {
+    const std::vector<double> times = row_times(dir / "timeseries.csv");
+    return !times.empty() && times.back() > 0.16;
+  });
+  run.signal(SIGTERM);
+  const int status = run.wait();
+  ASSERT_TRUE(ready);
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  EXPECT_TRUE(fs::exists(dir / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  const std::string message = read_text(err);
+  EXPECT_NE(message.find("SIGTERM"), std::string::npos) << message;
+  EXPECT_NE(message.find("settle run --restart " + dir.string()), std::string::npos) << message;
+
+  EXPECT_GT(restart_and_compare(dir, &reference), 0.15);  // stopped in the averaged half
+  fs::remove_all(dir);
+  fs::remove_all(reference);
+  fs::remove(err);
+}
+
+TEST_F(RestartCli, InterruptedRunExits130WithACheckpoint) {
+  const fs::path dir = scratch("restart_int");
+  std::vector<std::string> arguments{"-o", dir.string()};
+  arguments.insert(arguments.end(), kCase.begin(), kCase.end());
+  Background run(arguments, scratch("restart_int.err"));
+  const bool ready = wait_until(run, [&] {
+    const std::vector<double> times = row_times(dir / "timeseries.csv");
+    return !times.empty() && times.back() > 0.0;
+  });
+  run.signal(SIGINT);
+  const int status = run.wait();
+  ASSERT_TRUE(ready);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_TRUE(fs::exists(dir / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  fs::remove_all(dir);
+  fs::remove(scratch("restart_int.err"));
+}
+
+// A directory without a checkpoint (a finished run that wrote none), then a truncated checkpoint,
+// then --restart beside a case file and beside --set: exit status 2, the file or flags named, and
+// not a byte of the directory changed.
+TEST_F(RestartCli, RefusalsExitTwoAndLeaveTheDirectoryUntouched) {
+  const fs::path dir = scratch("restart_refused");
+  fs::remove_all(dir);
+  fs::copy(*straight_, dir, fs::copy_options::recursive);
+  const auto expect_refused = [&](const std::string& arguments, const std::vector<std::string>& named) {
+    const auto before = snapshot(dir);
+    const Result r = run_settle(arguments);
+    EXPECT_EQ(r.status, 2) << arguments << "\n" << r.err;
+    for (const auto& word : named) EXPECT_NE(r.err.find(word), std::string::npos) << word << " in: " << r.err;
+    EXPECT_TRUE(snapshot(dir) == before) << arguments;
+  };
+  expect_refused("--restart " + dir.string(), {(dir / "checkpoint.bin").string()});
+
+  // A checkpoint of the same case (written at t = 0.005 s, the end of this short run), cut in half.
+  const fs::path with_checkpoint = scratch("restart_refused_source");
+  ASSERT_EQ(run_settle("-o " + with_checkpoint.string() + joined(kCase) + " --set run.end_time=0.005" +
+                       " --set run.checkpoint_interval=0.005")
+                .status,
+            0);
+  const std::uintmax_t bytes = fs::file_size(with_checkpoint / "checkpoint.bin");
+  fs::copy_file(with_checkpoint / "checkpoint.bin", dir / "checkpoint.bin");
+  fs::resize_file(dir / "checkpoint.bin", bytes / 2);
+  expect_refused("--restart " + dir.string(), {(dir / "checkpoint.bin").string(), "truncated"});
+
+  fs::copy_file(with_checkpoint / "checkpoint.bin", dir / "checkpoint.bin", fs::copy_options::overwrite_existing);
+  const std::string case_file = std::string(SETTLE_SOURCE_DIR) + "/cases/grain.toml";
+  expect_refused(case_file + " --restart " + dir.string(), {"--restart", case_file});
+  expect_refused("--restart " + dir.string() + " --set run.end_time=1", {"--restart", "--set run.end_time=1"});
+  fs::remove_all(dir);
+  fs::remove_all(with_checkpoint);
+}
+
+}  // namespace
