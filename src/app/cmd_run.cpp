@@ -343,6 +343,7 @@ void run_case(const RunOptions& options) {
   }
   const RunCheckpoints checkpoints(dir, resolved_case, name);
   callbacks.checkpoint_interval_si = values.real("run.checkpoint_interval");
+  callbacks.checkpoint_wall_interval_s = values.real("run.checkpoint_wall_interval");
   callbacks.checkpoint_due = [&](const coupling::RunStart& loop) {
     checkpoints.write(sim, loop, vtk ? vtk->progress() : VtkProgress{});
   };

@@ -90,12 +90,18 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     if (output.due(time.time_si(), time.dt_si())) record_sample();
     if (callbacks.after_step) callbacks.after_step(time.time_si(), time.dt_si());
   };
+  double last_checkpoint_wall_s = 0.0;  // of this segment
+  const auto wall_checkpoint_due = [&] {
+    return callbacks.checkpoint_wall_interval_s > 0.0 &&
+           seconds_since(segment_start) - last_checkpoint_wall_s >= callbacks.checkpoint_wall_interval_s;
+  };
   const auto hand_over_checkpoint = [&] {
     // The samples are lent to the state rather than copied (a long run holds many); they come back
     // before anything else reads them.
     RunStart state{time.step(), output.next_index(), std::move(result.samples), wall_so_far()};
     callbacks.checkpoint_due(state);
     result.samples = std::move(state.samples);
+    last_checkpoint_wall_s = seconds_since(segment_start);
   };
 
   sample_if_due();
@@ -110,7 +116,9 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     time.advance();
     sample_if_due();
     if (stop_reason.empty() && callbacks.interrupted && callbacks.interrupted()) stop_reason = "interrupted";
-    if (callbacks.checkpoint_due && (checkpoints.due(time.time_si(), time.dt_si()) || stop_reason == "interrupted"))
+    // Both schedules are asked every step (OutputSchedule::due marks its time done).
+    const bool simulated_due = checkpoints.due(time.time_si(), time.dt_si());
+    if (callbacks.checkpoint_due && (simulated_due || wall_checkpoint_due() || stop_reason == "interrupted"))
       hand_over_checkpoint();
     if (!stop_reason.empty()) {
       result.stop_reason = stop_reason;

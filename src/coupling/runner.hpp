@@ -67,9 +67,13 @@ struct RunCallbacks {
   /// each multiple of checkpoint_interval_si of simulated time (0: never; none at the start time,
   /// which the checkpoint or the case already describes), and once after the interrupting step,
   /// whatever the interval. It comes after that step's sample and after_step, so the state includes
-  /// them. The caller writes the checkpoint (coupling/checkpoint_state.hpp).
+  /// them. The caller writes the checkpoint (coupling/checkpoint_state.hpp). Also due once
+  /// checkpoint_wall_interval_s of wall-clock time have passed since the last checkpoint (or the
+  /// start of this run segment; 0: never): a long run on a shared machine loses at most that much
+  /// work, however slowly its simulated time advances.
   std::function<void(const RunStart&)> checkpoint_due;
   double checkpoint_interval_si = 0.0;
+  double checkpoint_wall_interval_s = 0.0;
 };
 
 struct RunResult {

@@ -118,6 +118,8 @@ std::vector<KeySpec> declare() {
       boolean("run.stop_at_terminal", false, "end once the terminal state is reached"),
       real("run.checkpoint_interval", Value(0.0), "s", non_negative(),
            "simulated time between checkpoints in DIR/checkpoint.bin (0 = none; SIGINT or SIGTERM writes one anyway)"),
+      real("run.checkpoint_wall_interval", Value(0.0), "s", non_negative(),
+           "wall-clock time between checkpoints, whichever of the two comes first (0 = none)"),
       {"run.reference", Kind::String, std::nullopt, "",
        "key of validation/reference-data.json the run is compared with (e.g. \"tenCate2002_E1\"), copied to summary.json",
        {}, {}, 0},

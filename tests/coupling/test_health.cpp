@@ -134,6 +134,27 @@ TEST(Runner, CheckpointIsDueAtEachIntervalWithTheLoopState) {
   EXPECT_EQ(r.samples.size(), 11u);  // the samples lent to the callback came back
 }
 
+// A wall-clock interval: a checkpoint once that much wall time has passed since the last one.
+// An interval far below a step's wall time makes one due after every step (a clock that always
+// advances: steady_clock), and the simulated-time interval still adds none twice.
+TEST(Runner, WallClockIntervalMakesACheckpointDueOncePassed) {
+  Simulation sim(small_setup());
+  RunCallbacks callbacks;
+  callbacks.checkpoint_wall_interval_s = 1e-12;
+  callbacks.checkpoint_interval_si = 10.0;
+  std::vector<std::int64_t> steps;
+  callbacks.checkpoint_due = [&](const RunStart& state) { steps.push_back(state.step); };
+  const RunResult r = run(sim, callbacks);
+  ASSERT_EQ(steps.size(), static_cast<std::size_t>(r.steps));
+  for (std::size_t i = 0; i < steps.size(); ++i) EXPECT_EQ(steps[i], static_cast<std::int64_t>(i + 1));
+  // A wall interval longer than the run adds none to the simulated-time schedule.
+  Simulation again(small_setup());
+  callbacks.checkpoint_wall_interval_s = 1e6;
+  steps.clear();
+  run(again, callbacks);
+  EXPECT_EQ(steps, (std::vector<std::int64_t>{10, 20, 30, 40}));
+}
+
 // An interruption hands over a checkpoint at its step whatever the interval (here none).
 TEST(Runner, InterruptionHandsOverACheckpointAtItsStep) {
   Simulation sim(small_setup());
