@@ -14,22 +14,11 @@ bool body_finite(const Simulation& sim) {
 }
 
 void measure_fluid(const lbm::Solver& fluid, HealthReport& r) {
-  const std::vector<double> rho = fluid.density_field();
-  const lbm::VectorField u = fluid.velocity_field();
-  double min_rho = 1.0, max_rho = 1.0, max_u2 = 0.0;
-  bool finite = true;
-  for (std::size_t n = 0; n < rho.size(); ++n) {
-    const double u2 = u.x[n] * u.x[n] + u.y[n] * u.y[n] + u.z[n] * u.z[n];
-    // A NaN fails every comparison: test finiteness explicitly.
-    finite = finite && std::isfinite(rho[n]) && std::isfinite(u2);
-    min_rho = std::min(min_rho, rho[n]);
-    max_rho = std::max(max_rho, rho[n]);
-    max_u2 = std::max(max_u2, u2);
-  }
-  r.finite = r.finite && finite;
-  r.min_density = min_rho;
-  r.max_density = max_rho;
-  r.max_lattice_speed = std::sqrt(max_u2);
+  const lbm::FieldExtrema e = fluid.extrema();
+  r.finite = r.finite && e.finite;
+  r.min_density = e.min_density;
+  r.max_density = e.max_density;
+  r.max_lattice_speed = e.max_speed;
 }
 
 }  // namespace
@@ -53,11 +42,21 @@ HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
         r.max_lattice_speed, r.max_lattice_speed * std::sqrt(3.0), limits.max_lattice_speed, design_speed,
         sim.derived().expected_speed_si);
   } else if (std::max(r.max_density - 1.0, 1.0 - r.min_density) > limits.max_density_deviation) {
+    // The lattice pressure is c_s^2 (rho - 1). Its inertial part scales with u^2, its viscous part
+    // with (tau - 0.5) u / L: in a thin gap (a particle nearing a wall, L the gap) the viscous part
+    // dominates at large tau, and lowering dt (numerics.max_tau) shrinks it as dt^2.
+    const double tau = sim.derived().tau;
+    const std::string cause =
+        tau > 1.0 ? fmt::format("the viscous pressure of a thin gap (a particle nearing a wall) at tau = {:.3g}, which "
+                                "grows with (tau - 0.5) x lattice velocity; lower numerics.max_tau (a smaller dt), e.g. "
+                                "to 1.0, or numerics.max_lattice_velocity",
+                                tau)
+                  : std::string("too large a lattice velocity or an impulsive start; lower "
+                                "numerics.max_lattice_velocity");
     r.problem = fmt::format(
-        "fluid density ranges over [{:.3f}, {:.3f}] (lattice units), beyond 1 +- {:.2f}: pressure waves too strong "
-        "for the incompressible limit. Likely cause: too large a lattice velocity or an impulsive start; lower "
-        "numerics.max_lattice_velocity",
-        r.min_density, r.max_density, limits.max_density_deviation);
+        "fluid density ranges over [{:.3f}, {:.3f}] (lattice units), beyond 1 +- {:.2f}: pressure too strong for the "
+        "incompressible limit. Likely cause: {}",
+        r.min_density, r.max_density, limits.max_density_deviation, cause);
   }
   return r;
 }

@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -170,6 +171,31 @@ class AaSolver final : public Solver {
       u.z[n] = m.uz;
     });
     return u;
+  }
+
+  FieldExtrema extrema() const override {
+    const int nx = config_.nx, ny = config_.ny, nz = config_.nz;
+    double min_rho = 1.0, max_rho = 1.0, max_u2 = 0.0;
+    bool finite = true;
+#pragma omp parallel for collapse(2) schedule(static) if (threaded_) \
+    reduction(min : min_rho) reduction(max : max_rho, max_u2) reduction(&& : finite)
+    for (int z = 0; z < nz; ++z) {
+      for (int y = 0; y < ny; ++y) {
+        for (int x = 0; x < nx; ++x) {
+          double g[Q];
+          gather_shifted({x, y, z}, g);
+          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z), total_force(2, x, y, z)};
+          const Macroscopic<L> m = macroscopic<L>(g, F);
+          const double u2 = m.ux * m.ux + m.uy * m.uy + m.uz * m.uz;
+          // A NaN fails every comparison: test finiteness explicitly.
+          finite = finite && std::isfinite(m.rho) && std::isfinite(u2);
+          min_rho = std::min(min_rho, m.rho);
+          max_rho = std::max(max_rho, m.rho);
+          max_u2 = std::max(max_u2, u2);
+        }
+      }
+    }
+    return {min_rho, max_rho, std::sqrt(max_u2), finite};
   }
 
   void add_force(int x, int y, int z, const Eigen::Vector3d& force) override {

@@ -25,6 +25,14 @@ struct VectorField {
   std::vector<double> x, y, z;
 };
 
+/// Extremes of the macroscopic fields over the interior cells, from one pass (Solver::extrema).
+struct FieldExtrema {
+  double min_density = 1.0;
+  double max_density = 1.0;
+  double max_speed = 0.0;  ///< largest |u| (with Guo's half-force correction)
+  bool finite = true;      ///< no NaN or infinity in any density or velocity
+};
+
 /// Density and velocity of one cell (velocity includes Guo's half-force correction).
 struct CellState {
   double density = 1.0;
@@ -127,6 +135,9 @@ class Solver {
   /// Pressure p = cs^2 (rho - 1) (lattice units, relative to the reference density 1).
   std::vector<double> pressure_field() const;
   virtual VectorField velocity_field() const = 0;
+  /// The extremes of density and speed in one parallel pass without allocating the fields: what
+  /// the run's health check needs at every output sample, at the cost of about one streaming step.
+  virtual FieldExtrema extrema() const = 0;
   /// Vorticity curl(u) by second-order central differences (periodic axes wrap; one-sided
   /// second-order differences at the faces of non-periodic axes).
   VectorField vorticity_field() const;
