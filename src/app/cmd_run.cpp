@@ -273,6 +273,19 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
                            result.wall_seconds, result.mlups, result.stop_reason, dir.string()));
 }
 
+// summary.json, the run's completion mark (file comment): the loop's figures, the reference the
+// case names, and for free bodies the analysis with the correlations.
+nlohmann::json write_summary(const io::CaseValues& values, const coupling::Simulation& sim,
+                             const coupling::RunResult& result, const std::vector<std::string>& warnings,
+                             const fs::path& dir, Console& console) {
+  nlohmann::json summary_document = summary_json(sim, result, coupling::summarise(sim, result), warnings);
+  // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
+  if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
+  add_analysis(summary_document, sim, dir / "timeseries.csv", console);
+  io::write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
+  return summary_document;
+}
+
 void run_case(const RunOptions& options) {
   check_flags(options);
   // --restart DIR: the case, its name and the directory come from DIR/checkpoint.bin (checked here,
@@ -363,12 +376,7 @@ void run_case(const RunOptions& options) {
   }
   if (result.stop_reason == "interrupted")
     throw interrupted_error(signals.signal_number(), result, dir, checkpoints.file());
-  const coupling::RunSummary summary = coupling::summarise(sim, result);
-  nlohmann::json summary_document = summary_json(sim, result, summary, warnings);
-  // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
-  if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
-  add_analysis(summary_document, sim, dir / "timeseries.csv", console);
-  io::write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
+  const nlohmann::json summary_document = write_summary(values, sim, result, warnings, dir, console);
   report_end(console, sim, result, summary_document, dir);
 }
 
