@@ -2,7 +2,13 @@
 // The user-facing fluid benchmark with the bandwidth roofline is `settle bench`.
 #include <benchmark/benchmark.h>
 
+#include <omp.h>
+#include <sys/mman.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 #include <numbers>
 
 #include "attitude/integrators.hpp"
@@ -61,5 +67,52 @@ void BM_MultiDirectForcing(benchmark::State& state) {
   state.counters["markers"] = n;
 }
 BENCHMARK(BM_MultiDirectForcing)->Arg(8)->Arg(10)->Unit(benchmark::kMicrosecond);
+
+// In-place read-modify-write of Q arrays of 256-element rows, the memory traffic of one AA step
+// without the collision (docs/lbm.md, "Experiments of 2026-11-24"): range(0) arrays over 1 GiB in
+// all, staggered in their 4 KiB offsets as the fluid grid's are; range(1) = 1 visits the arrays in
+// one loop over the row, as the fluid kernel does; 0 sweeps one array's row segment after the
+// other. Both threads of the machine, as `settle bench`.
+void update_row(double* __restrict a, std::size_t n) {
+#pragma omp simd
+  for (std::size_t x = 0; x < n; ++x) a[x] = 0.5 * a[x] + 0.5;
+}
+
+void BM_InplaceStreams(benchmark::State& state) {
+  const auto arrays = static_cast<std::size_t>(state.range(0));
+  const bool interleaved = state.range(1) != 0;
+  constexpr std::size_t kRow = 256, kHuge = std::size_t{2} << 20, kTotal = std::size_t{1} << 27;
+  const std::size_t rows = kTotal / arrays / kRow;
+  const std::size_t stride = (rows * kRow + 511) / 512 * 512 + 4096 / arrays / 64 * 64 / sizeof(double);
+  const std::size_t bytes = (stride * arrays * sizeof(double) + kHuge - 1) / kHuge * kHuge;
+  std::unique_ptr<double, decltype(&std::free)> storage(static_cast<double*>(std::aligned_alloc(kHuge, bytes)),
+                                                        &std::free);
+  double* const base = storage.get();
+  ::madvise(base, bytes, MADV_HUGEPAGE);
+#pragma omp parallel for schedule(static)
+  for (std::size_t r = 0; r < rows; ++r) {  // first touch by the thread that updates the row
+    for (std::size_t q = 0; q < arrays; ++q) std::fill_n(base + q * stride + r * kRow, kRow, 1.0);
+  }
+  for (auto _ : state) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t r = 0; r < rows; ++r) {
+      double* p[64];
+      for (std::size_t q = 0; q < arrays; ++q) p[q] = base + q * stride + r * kRow;
+      if (!interleaved) {
+        for (std::size_t q = 0; q < arrays; ++q) update_row(p[q], kRow);
+        continue;
+      }
+#pragma GCC ivdep
+      for (std::size_t x = 0; x < kRow; ++x) {
+        for (std::size_t q = 0; q < arrays; ++q) p[q][x] = 0.5 * p[q][x] + 0.5;
+      }
+    }
+    benchmark::ClobberMemory();
+  }
+  state.counters["bytes_per_s"] = benchmark::Counter(2.0 * static_cast<double>(rows * kRow * arrays * sizeof(double)),
+                                                     benchmark::Counter::kIsIterationInvariantRate,
+                                                     benchmark::Counter::kIs1000);
+}
+BENCHMARK(BM_InplaceStreams)->ArgsProduct({{1, 19}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs settle's build and run dependencies from Debian's package archive.
+# Installs settle's build and run dependencies from Debian's package archive, and the packages
+# given as arguments.
 # Idempotent: packages already present are skipped, and apt-get is not touched at all
 # when nothing is missing. Nothing is vendored or downloaded from elsewhere.
 set -euo pipefail
@@ -15,6 +16,8 @@ packages=(
   libbenchmark-dev      # micro-benchmarks
   python3-matplotlib python3-numpy       # `settle plot`
 )
+# Extra packages for one step only, e.g. scripts/fuzz.sh passes clang and libFuzzer.
+packages+=("$@")
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,10 +1,37 @@
 #!/usr/bin/env bash
-# The test command of the README: installs what is missing (Debian packages), builds the release
-# preset and runs the unit and case tests (labels unit|case). Validation runs are separate:
-# scripts/run_validation.sh.
+# The test command of the README, and what CI runs (.ci/run): installs what is missing (Debian
+# packages) and runs three stages, each of which fails the whole command:
+#   release     build the release preset, run the unit and case tests (labels unit|case)
+#   sanitizers  build the debug preset (AddressSanitizer + UndefinedBehaviorSanitizer on the
+#               library and the front end) and run the unit and case tests but the `heavy` ones
+#               (scripts/run_sanitizer_tests.sh)
+#   fuzz        build the libFuzzer targets with clang and fuzz the case parser and the STL
+#               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
+# On the 2-core development machine: about 9, 10 and 3 minutes from scratch.
+# SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
+# Validation runs are separate (docs/validation.md).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-bash scripts/install-deps.sh
-cmake --preset release >/dev/null
-cmake --build --preset release
-ctest --preset release
+stages=${SETTLE_TEST_STAGES:-release sanitizers fuzz}
+
+for stage in $stages; do
+  case $stage in
+    release | sanitizers | fuzz) ;;
+    *) echo "run_tests: unknown stage '$stage' in SETTLE_TEST_STAGES (allowed: release sanitizers fuzz)" >&2; exit 2 ;;
+  esac
+done
+
+for stage in $stages; do
+  echo "run_tests: stage $stage ($(date -u +%T))"
+  case $stage in
+    release)
+      bash scripts/install-deps.sh
+      cmake --preset release >/dev/null
+      cmake --build --preset release
+      ctest --preset release
+      ;;
+    sanitizers) bash scripts/run_sanitizer_tests.sh ;;
+    fuzz) bash scripts/fuzz.sh 20 ;;
+  esac
+done
+echo "run_tests: all stages passed: $stages ($(date -u +%T))"

@@ -236,6 +236,27 @@ void velocity_and_path(const WindowSeries& w, const VerticalFrame& frame, Analys
   a.lateral_displacement_si = (moved - moved.dot(frame.down) * frame.down).norm();
 }
 
+// Mordant and Pinton 2000 (Eur. Phys. J. B 18, 343, doi:10.1007/s100510070066) characterise a
+// sphere's transient by t_95, the time to 95% of the terminal velocity, from a fit
+// u = U_t (1 - exp(-3 t / t_95)); here it is the first crossing of 0.95 U_t in the samples, which
+// equals the fit's t_95 for an exactly exponential approach.
+void time_to_95_percent(const SettlingSeries& series, const VerticalFrame& frame, Analysis& a) {
+  if (!a.terminal.reached || !(a.vertical_velocity_si > 0.0)) return;
+  const double target = 0.95 * a.vertical_velocity_si;
+  double previous = series.velocity_si.front().dot(frame.down);
+  if (previous >= target) return;
+  for (std::size_t k = 1; k < series.size(); ++k) {
+    const double u = series.velocity_si[k].dot(frame.down);
+    if (u >= target) {
+      const double fraction = (target - previous) / (u - previous);
+      const double t = series.t_si[k - 1] + fraction * (series.t_si[k] - series.t_si[k - 1]);
+      a.time_to_95_percent_si = t - series.t_si.front();
+      return;
+    }
+    previous = u;
+  }
+}
+
 void dimensionless_groups(const ParticleProperties& p, Analysis& a) {
   const double d = p.equivalent_diameter_si, nu = p.kinematic_viscosity_si(), g = p.gravity_si.norm();
   a.density_ratio = p.particle_density_si / p.fluid_density_si;
@@ -593,6 +614,7 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   a.axis = properties.axis;
 
   velocity_and_path(w, frame, a);
+  time_to_95_percent(series, frame, a);
   dimensionless_groups(properties, a);
   drag(w, properties, a);
   lateral_motion(w, frame, a);
@@ -640,6 +662,7 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   terminal["time"] = a.terminal.reached ? json(a.terminal.terminal_time_si) : json(nullptr);
   terminal["detected_at"] = a.terminal.reached ? json(a.terminal.detected_at_si) : json(nullptr);
   terminal["relative_change"] = a.terminal.reached ? json(a.terminal.relative_change) : json(nullptr);
+  terminal["time_to_95_percent"] = optional_json(a.time_to_95_percent_si);
   terminal["response_time"] = a.criteria.response_time_si;
   terminal["window"] = a.criteria.window_si();
   terminal["window_response_times"] = a.criteria.window_response_times;

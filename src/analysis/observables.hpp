@@ -127,6 +127,10 @@ struct Analysis {
   double lateral_drift_speed_si = 0.0;  ///< |mean horizontal velocity|
   double path_angle_deg = 0.0;          ///< mean velocity from the vertical line, [0, 90]
   double lateral_displacement_si = 0.0;  ///< horizontal distance moved over the window
+  /// Time from the first sample at which the velocity along g first reaches 95% of the terminal
+  /// vertical velocity (linear interpolation between samples): Mordant and Pinton's t_95. Empty
+  /// unless the terminal state was reached, the body sinks, and the first sample is below 95%.
+  std::optional<double> time_to_95_percent_si;
 
   // Dimensionless groups.
   double reynolds = 0.0;       ///< |U| d_eq / nu

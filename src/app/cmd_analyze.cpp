@@ -127,6 +127,9 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
                        "tolerance {:.3g})\n",
                        a.criteria.window_si(), a.criteria.window_response_times, a.criteria.response_time_si,
                        a.criteria.tolerance);
+  if (a.time_to_95_percent_si)
+    out << fmt::format("  approach         95% of the terminal vertical velocity at t = {:.4g} s after the start\n",
+                       *a.time_to_95_percent_si);
   out << fmt::format("  averaged over    t = {:.4g} .. {:.4g} s ({} samples, {})\n", a.window_start_si, a.window_end_si,
                      a.window_samples, a.averaged_over_terminal_window ? "terminal window" : "second half of the run");
   out << fmt::format("  velocity         |U| = {:.5g} m/s, along g {:.5g} m/s, path {:.3g} deg from vertical\n",

@@ -139,9 +139,14 @@ int WallContact::substep_count(double dt_si) const {
 }
 
 ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& external) const {
+  return advance(body, dt_si, external, VirtualInertia{});
+}
+
+ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& external,
+                                 const VirtualInertia& virtual_inertia) const {
   ContactStep step;
   if (body.motion_kind() != MotionKind::free || !within_reach(body.state(), dt_si)) {
-    body.correct(dt_si, external);
+    body.correct(dt_si, external, virtual_inertia);
     step.min_gap_si = min_gap_si(body.state());
     return step;
   }
@@ -152,9 +157,9 @@ ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& ex
     // Explicit midpoint rule for the contact wrench: predict half a substep with the wrench at the
     // start, then take the whole substep with the wrench at that midpoint.
     RigidBody midpoint = body;
-    midpoint.correct(0.5 * h, external + wrench(body, body.state()));
+    midpoint.correct(0.5 * h, external + wrench(body, body.state()), virtual_inertia);
     const Wrench contact = wrench(midpoint, midpoint.state());
-    body.correct(h, external + contact);
+    body.correct(h, external + contact, virtual_inertia);
     step.mean_wrench.force_si += contact.force_si * (h / dt_si);
     step.mean_wrench.torque_si += contact.torque_si * (h / dt_si);
     step.touching = step.touching || !contact.force_si.isZero(0.0);

@@ -176,6 +176,10 @@ class WallContact {
   /// the contact wrench, sub-stepped when a wall is within reach this step (file comment);
   /// otherwise exactly body.correct(dt, external). Towed and fixed bodies: body.correct(dt, external).
   ContactStep advance(RigidBody& body, double dt_si, const Wrench& external) const;
+  /// The same with the corrector's virtual mass and inertia (RigidBody::correct), applied in every
+  /// substep with the whole step's acceleration estimate, so that a body at rest on a wall
+  /// (a = a_est = 0) balances exactly as without it.
+  ContactStep advance(RigidBody& body, double dt_si, const Wrench& external, const VirtualInertia& virtual_inertia) const;
 
  private:
   bool within_reach(const RigidBodyState& state, double dt_si) const;

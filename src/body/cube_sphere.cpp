@@ -65,6 +65,19 @@ Eigen::Vector3d longest_grid_edges(const std::array<int, 3>& cells, const Radial
   return longest;
 }
 
+// Grid intervals for a wanted (real) count: at least 2, and below 2^21, the largest index the
+// vertex keys of LatticeVertices hold (21 bits per axis).
+int cell_count(double wanted) {
+  constexpr double kLargest = (1 << 21) - 1;
+  return static_cast<int>(std::clamp(std::ceil(wanted), 2.0, kLargest));
+}
+
+// Triangles of cube_sphere_mesh: two per grid quad on each of the 6 faces.
+double triangle_count(const std::array<int, 3>& cells) {
+  const double x = cells[0], y = cells[1], z = cells[2];
+  return 4.0 * (x * y + y * z + z * x);
+}
+
 }  // namespace
 
 TriangleMesh cube_sphere_mesh(const std::array<int, 3>& cells, const RadialMap& to_surface) {
@@ -101,19 +114,24 @@ TriangleMesh cube_sphere_mesh(const std::array<int, 3>& cells, const RadialMap& 
 }
 
 TriangleMesh cube_sphere_mesh_with_max_edge(const Eigen::Vector3d& half_extents, double max_edge,
-                                            const RadialMap& to_surface) {
+                                            const RadialMap& to_surface, double max_triangles) {
   std::array<int, 3> cells{};
-  for (int i = 0; i < 3; ++i) cells[i] = std::max(2, static_cast<int>(std::ceil(1.6 * half_extents(i) / max_edge)));
-  for (int attempt = 0; attempt < 4; ++attempt) {
+  for (int i = 0; i < 3; ++i) cells[i] = cell_count(1.6 * half_extents(i) / max_edge);
+  for (int attempt = 0; attempt < 4 && triangle_count(cells) <= max_triangles; ++attempt) {
     const Eigen::Vector3d longest = longest_grid_edges(cells, to_surface);
     bool fine_enough = true;
     for (int i = 0; i < 3; ++i) {
       if (longest(i) > max_edge) {
         fine_enough = false;
-        cells[i] = static_cast<int>(std::ceil(cells[i] * longest(i) / max_edge * 1.02));
+        cells[i] = cell_count(cells[i] * longest(i) / max_edge * 1.02);
       }
     }
     if (fine_enough) break;
+  }
+  if (const double count = triangle_count(cells); count > max_triangles) {
+    // The count is quadratic in the cells: one factor sqrt(max / count) on every axis.
+    const double shrink = std::sqrt(max_triangles / count);
+    for (int& c : cells) c = std::max(2, static_cast<int>(std::floor(c * shrink)));
   }
   return cube_sphere_mesh(cells, to_surface);
 }

@@ -7,6 +7,7 @@
 // no poles, and the three counts let an elongated body get more cells along its long axis.
 #include <array>
 #include <functional>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -23,7 +24,12 @@ TriangleMesh cube_sphere_mesh(const std::array<int, 3>& cells, const RadialMap& 
 
 /// A cube-sphere triangulation whose grid edges are all <= max_edge: starts from cells
 /// proportional to the body's half-extents and refines each axis by its measured longest edge.
+/// At most `max_triangles`: beyond it the cells of all three axes are scaled down by one factor
+/// and the edges are longer than max_edge. The grid suits round bodies; a needle's tip face
+/// spans a good part of its length, so the count grows as (length / max_edge)^2 whatever the
+/// thickness (a 500:1 needle at d_eq/100 would need 2e8 triangles, 24 GB).
 TriangleMesh cube_sphere_mesh_with_max_edge(const Eigen::Vector3d& half_extents, double max_edge,
-                                            const RadialMap& to_surface);
+                                            const RadialMap& to_surface,
+                                            double max_triangles = std::numeric_limits<double>::infinity());
 
 }  // namespace settle::body

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <string_view>
 
 #include <fmt/core.h>
 
@@ -52,6 +53,36 @@ std::vector<double> shell_volumes(const TriangleMesh& mesh, const std::vector<in
   return volume;
 }
 
+// The volume grows as the cube of the mesh's size and the second moments as its fifth power: a
+// mesh beyond about 1e61 file units (or below about 1e-61) overflows (underflows) double precision,
+// and its mass properties would come out inf, NaN or 0 (found by fuzz_stl, docs/fuzzing.md).
+[[noreturn]] void refuse_size(const std::string& source, std::string_view too, double largest_coordinate,
+                              std::string_view what) {
+  throw InputError(fmt::format("{}: the mesh is too {} for double precision (largest coordinate {:.3g}): its {}; "
+                               "rescale the mesh (its scale factor) or give its coordinates in other units",
+                               source, too, largest_coordinate, what));
+}
+
+void check_size_representable(double diagonal, double largest_coordinate, const std::vector<double>& shell_volume,
+                              const std::string& source) {
+  const bool finite = std::isfinite(diagonal * diagonal * diagonal) &&
+                      std::all_of(shell_volume.begin(), shell_volume.end(), [](double v) { return std::isfinite(v); });
+  if (!finite) refuse_size(source, "large", largest_coordinate, "volume overflows");
+}
+
+void check_moments_representable(const VolumeMoments& moments, double area, double largest_coordinate,
+                                 const std::string& source) {
+  if (!std::isfinite(moments.volume) || !moments.centroid.allFinite() || !moments.second_moment.allFinite() ||
+      !std::isfinite(area)) {
+    refuse_size(source, "large", largest_coordinate, "moments of inertia overflow");
+  }
+  // A solid's second moments about its centroid are positive; below the smallest normal double
+  // they have lost their precision (or are 0).
+  if (moments.second_moment.diagonal().minCoeff() < std::numeric_limits<double>::min()) {
+    refuse_size(source, "small", largest_coordinate, "moments of inertia underflow");
+  }
+}
+
 double corner_angle(const Eigen::Vector3d& at, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
   const Eigen::Vector3d u = p - at, v = q - at;
   return std::atan2(u.cross(v).norm(), u.dot(v));
@@ -63,10 +94,12 @@ MeshShape::MeshShape(TriangleMesh mesh, std::string source) : mesh_(std::move(me
   EdgeNeighbours neighbours = check_closed_and_oriented(mesh_, source);
   const auto [lo, hi] = vertex_bounds(mesh_);
   const double diagonal = (hi - lo).norm();
+  const double largest_coordinate = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
 
   int shells = 0;
   const std::vector<int> label = shell_labels(neighbours, &shells);
   const std::vector<double> volumes = shell_volumes(mesh_, label, shells);
+  check_size_representable(diagonal, largest_coordinate, volumes, source);
   const double total = std::accumulate(volumes.begin(), volumes.end(), 0.0);
   if (std::abs(total) <= 1e-10 * diagonal * diagonal * diagonal) {
     throw InputError(fmt::format("{}: the mesh encloses no volume (volume {:.3g} for a bounding-box diagonal of {:.3g})",
@@ -89,6 +122,7 @@ MeshShape::MeshShape(TriangleMesh mesh, std::string source) : mesh_(std::move(me
   moments_ = polyhedron_moments(mesh_);
   for (auto& v : mesh_.vertices) v -= moments_.centroid;  // body frame: origin at the centroid
   area_ = mesh_surface_area(mesh_);
+  check_moments_representable(moments_, area_, largest_coordinate, source);
   convex_ = body::is_convex(mesh_, neighbours);
   const auto [body_lo, body_hi] = vertex_bounds(mesh_);
   box_ = {body_lo, body_hi};

@@ -14,10 +14,12 @@ class MeshShape final : public Shape {
  public:
   /// Validates and adopts a mesh given in the input frame. Refused with settle::InputError
   /// (message starting with `source`): everything check_closed_and_oriented refuses, a volume
-  /// that is zero to 1e-10 of the bounding-box diagonal cubed, and a mesh made of several
+  /// that is zero to 1e-10 of the bounding-box diagonal cubed, a mesh made of several
   /// closed shells of which some are oriented inward (an inverted shell or a cavity: the body
-  /// would be ambiguous). A mesh whose shells are all oriented inward (negative volume) is
-  /// reversed, and notes() says so. Self-intersections are not detected.
+  /// would be ambiguous), and a mesh so large or small that its volume or moments of inertia
+  /// overflow or underflow double precision (sizes beyond about 1e61 or below about 1e-61). A mesh
+  /// whose shells are all oriented inward (negative volume) is reversed, and notes() says so.
+  /// Self-intersections are not detected.
   MeshShape(TriangleMesh mesh, std::string source);
 
   /// The mesh in the body frame (origin at the centroid).

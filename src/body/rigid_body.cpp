@@ -90,13 +90,19 @@ void RigidBody::advance_prescribed(double dt_si) {
   if (attitude::dual_euler_step(state_.attitude, dt_si, omega, omega)) ++switch_count_;
 }
 
-void RigidBody::correct(double dt_si, const Wrench& external_n) {
+void RigidBody::correct(double dt_si, const Wrench& external_n) { correct(dt_si, external_n, VirtualInertia{}); }
+
+void RigidBody::correct(double dt_si, const Wrench& external_n, const VirtualInertia& virtual_inertia) {
   if (kind_ != MotionKind::free) {
     advance_prescribed(dt_si);
     return;
   }
-  // Translation: constant force over the step, exact for that force.
-  const Eigen::Vector3d acceleration = (external_n.force_si + net_weight_si()) / mass_properties_.mass;
+  // Translation: constant force over the step, exact for that force. The virtual mass term
+  // (VirtualInertia) adds m_v a_est on the right and m_v on the left.
+  const double mass_with_virtual = mass_properties_.mass + virtual_inertia.mass_si;
+  const Eigen::Vector3d acceleration =
+      (external_n.force_si + net_weight_si() + virtual_inertia.mass_si * virtual_inertia.acceleration_si) /
+      mass_with_virtual;
   const Eigen::Vector3d velocity_start = state_.velocity_si;
   state_.velocity_si = velocity_start + dt_si * acceleration;
   state_.position_si += 0.5 * dt_si * (velocity_start + state_.velocity_si);
@@ -105,8 +111,15 @@ void RigidBody::correct(double dt_si, const Wrench& external_n) {
   // matrix brings it into the body frame; it is held constant there over the step.
   const Eigen::Vector3d torque_b = predict_pose(dt_si).attitude.inertial_to_body() * external_n.torque_si;
   const Eigen::Vector3d omega_start = state_.angular_velocity_b_si;
+  // With a virtual inertia I_v: (I + I_v) domega/dt = T_b + I_v alpha_est - omega x (I omega); the
+  // gyroscopic term keeps the body's own inertia (it is physics, the virtual term is numerics).
+  const bool plain = virtual_inertia.inertia_b_si.isZero(0.0);
+  const Eigen::Matrix3d inverse_with_virtual =
+      plain ? inertia_.inverse() : attitude::BodyInertia(inertia_.tensor() + virtual_inertia.inertia_b_si).inverse();
+  const Eigen::Vector3d driving_b = torque_b + virtual_inertia.inertia_b_si * virtual_inertia.angular_acceleration_b_si;
   const auto euler_equations = [&](double, const Eigen::Vector3d& omega) -> Eigen::Vector3d {
-    return attitude::angular_acceleration_b(inertia_, omega, torque_b);
+    if (plain) return attitude::angular_acceleration_b(inertia_, omega, torque_b);
+    return inverse_with_virtual * (driving_b - omega.cross(inertia_.tensor() * omega));
   };
   state_.angular_velocity_b_si = attitude::rk4_step(omega_start, 0.0, dt_si, euler_equations);
   if (attitude::dual_euler_step(state_.attitude, dt_si, omega_start, state_.angular_velocity_b_si)) {

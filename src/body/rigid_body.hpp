@@ -76,6 +76,22 @@ struct Wrench {
   Eigen::Vector3d torque_si = Eigen::Vector3d::Zero();
 };
 
+/// Virtual mass and inertia of the coupled step's corrector (Schwarz, Kempe and Froehlich 2015,
+/// J. Comput. Phys. 281, 591, doi:10.1016/j.jcp.2014.10.039): the same term is added to both sides
+/// of Newton-Euler, implicitly on the left and with an estimate of the step's acceleration on the
+/// right,
+///     (m + m_v) a = F + (m - rho_f V) g + m_v a_est,
+///     (I + I_v) domega_b/dt = T_b - omega_b x (I omega_b) + I_v alpha_est.
+/// An approximation that acts on transients only: when the acceleration does not change from one
+/// step to the next (a = a_est), the added terms cancel exactly, so steady motion and terminal
+/// states are those of the plain equations. docs/coupling.md, "Stability of light bodies".
+struct VirtualInertia {
+  double mass_si = 0.0;                                          ///< m_v, kg
+  Eigen::Matrix3d inertia_b_si = Eigen::Matrix3d::Zero();        ///< I_v, body frame, kg m^2
+  Eigen::Vector3d acceleration_si = Eigen::Vector3d::Zero();     ///< a_est, inertial, m/s^2
+  Eigen::Vector3d angular_acceleration_b_si = Eigen::Vector3d::Zero();  ///< alpha_est, body frame, rad/s^2
+};
+
 /// External wrench (beyond gravity and buoyancy) as a function of time (s) and state.
 using WrenchFunction = std::function<Wrench(double t_si, const RigidBodyState& state)>;
 
@@ -120,6 +136,9 @@ class RigidBody {
   /// wrench (inertial; e.g. hydrodynamic, measured at predict_pose(dt)) held constant, plus
   /// gravity and buoyancy. Towed and fixed bodies follow their prescribed motion instead.
   void correct(double dt_si, const Wrench& external_n);
+  /// The same with the virtual mass and inertia stabilisation (VirtualInertia) of light bodies; with
+  /// a zero VirtualInertia it is exactly correct(dt, external_n).
+  void correct(double dt_si, const Wrench& external_n, const VirtualInertia& virtual_inertia);
 
   /// One RK4 step of the full Newton-Euler system from t to t + dt, with gravity, buoyancy
   /// and the external wrench evaluated at every stage (an empty function means none).

@@ -22,6 +22,11 @@ constexpr int kPolishRounds = 6;
 // points the polishing cannot improve (far from the body near sharp edges), and its size sets
 // the cost of the nearest-triangle search.
 constexpr double kDistanceMeshCellsPerDiameter = 100.0;
+// Bounds the triangulation's memory (120 to 170 bytes per triangle with its BVH, measured) and
+// build time (about 1 s per million triangles): 1 : 0.8 : 0.6 takes 1.3e5 triangles and
+// 1 : 0.1 : 0.1 about 1e6, while a 500:1 needle would otherwise take 2e8 triangles, 24 GB and
+// 400 s before any check of the case could run (found with fuzz_case, docs/fuzzing.md).
+constexpr double kMaxDistanceMeshTriangles = 1.0e6;
 
 // ||(u, v)||_p for p in [1, inf], scaled by the larger magnitude so that nothing overflows.
 double lp_norm(double u, double v, double p) {
@@ -93,9 +98,10 @@ Superellipsoid::Superellipsoid(const Eigen::Vector3d& semi_axes, double e1, doub
   area_ = compute_surface_area();
 
   const double d_eq = std::cbrt(6.0 * volume_moments().volume / std::numbers::pi);
-  surface_mesh_ = cube_sphere_mesh_with_max_edge(semi_axes_, d_eq / kDistanceMeshCellsPerDiameter, [this](const Eigen::Vector3d& u) {
-    return radial_projection(semi_axes_.cwiseProduct(u));
-  });
+  surface_mesh_ = cube_sphere_mesh_with_max_edge(
+      semi_axes_, d_eq / kDistanceMeshCellsPerDiameter,
+      [this](const Eigen::Vector3d& u) { return radial_projection(semi_axes_.cwiseProduct(u)); },
+      kMaxDistanceMeshTriangles);
   bvh_ = TriangleBvh(surface_mesh_);
 }
 

@@ -239,6 +239,8 @@ struct CheckpointAccess {
     out.vec3(sim.window_anchor_);
     out.vec3(sim.internal_before_.linear);
     out.vec3(sim.internal_before_.angular);
+    out.vec3(sim.virtual_inertia_.acceleration_si);
+    out.vec3(sim.virtual_inertia_.angular_acceleration_b_si);
     write_wrench(out, sim.last_.hydrodynamic);
     write_wrench(out, sim.last_.marker_reaction);
     write_wrench(out, sim.last_.internal_rate);
@@ -261,6 +263,8 @@ struct CheckpointAccess {
     LatticeFrame frame;
     Eigen::Vector3d window_anchor = Eigen::Vector3d::Zero();
     FluidMomentum internal_before;
+    Eigen::Vector3d acceleration_estimate_si = Eigen::Vector3d::Zero();
+    Eigen::Vector3d angular_acceleration_estimate_b_si = Eigen::Vector3d::Zero();
     StepObservation last;
     std::vector<std::pair<std::string, double>> timers;
   };
@@ -275,6 +279,8 @@ struct CheckpointAccess {
     s.window_anchor = in.vec3();
     s.internal_before.linear = in.vec3();
     s.internal_before.angular = in.vec3();
+    s.acceleration_estimate_si = in.vec3();
+    s.angular_acceleration_estimate_b_si = in.vec3();
     s.last.hydrodynamic = read_wrench(in);
     s.last.marker_reaction = read_wrench(in);
     s.last.internal_rate = read_wrench(in);
@@ -297,6 +303,8 @@ struct CheckpointAccess {
     sim.frame_ = s.frame;
     sim.window_anchor_ = s.window_anchor;
     sim.internal_before_ = s.internal_before;
+    sim.virtual_inertia_.acceleration_si = s.acceleration_estimate_si;
+    sim.virtual_inertia_.angular_acceleration_b_si = s.angular_acceleration_estimate_b_si;
     sim.last_ = s.last;
     sim.timers_ = SubstepTimers{};
     for (const auto& [name, seconds] : s.timers) sim.timers_.add(name.c_str(), seconds);

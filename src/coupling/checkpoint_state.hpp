@@ -11,7 +11,8 @@
 //    set and its three angles, so the integrator continues in the same set);
 //  - the coupling: step count, the moving window's origin and anchor, the momentum of the fluid
 //    inside the body at the end of the last step (the next step's force needs its rate of
-//    change), the last step's observation (forces, slip, contact) and the sub-step timers;
+//    change), the last step's accelerations (the corrector's virtual-mass estimate for the next
+//    step), the last step's observation (forces, slip, contact) and the sub-step timers;
 //  - a fingerprint of what the case determines (grid, lattice, precision, boundaries, dx, dt, tau,
 //    body force, gravity, motion kind, mass, markers, forcing, wall contact), checked on restore;
 //  - the caller's data: the resolved case text, named numbers and named blobs (the run loop's

@@ -96,6 +96,20 @@ UnitConverter converter_for(const SimulationSetup& s) {
   return make_unit_converter(in);
 }
 
+// Virtual mass and inertia of the corrector, in units of the displaced fluid's mass rho_f V and
+// rigid-body inertia (rho_f / rho_p) I. Values and their derivation: docs/coupling.md, "Stability
+// of light bodies".
+constexpr double kVirtualMassCoefficient = 0.5;
+constexpr double kVirtualInertiaCoefficient = 1.0;
+
+body::VirtualInertia virtual_inertia_for(const body::RigidBody& body, double fluid_density_si) {
+  const body::MassProperties& m = body.mass_properties();
+  body::VirtualInertia v;
+  v.mass_si = kVirtualMassCoefficient * fluid_density_si * m.volume;
+  v.inertia_b_si = kVirtualInertiaCoefficient * (fluid_density_si * m.volume / m.mass) * m.inertia;
+  return v;
+}
+
 }  // namespace
 
 double expected_speed_si(const SimulationSetup& s) {
@@ -174,6 +188,7 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
   body::Environment environment{setup_.fluid_density_si, setup_.gravity_si};
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
                                             setup_.initial, setup_.motion);
+  if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
   markers_ = make_body_markers(shape, units_.dx_si(), setup_.marker_retraction_cells);
   derived_.marker_count = markers_.size();
   make_wall_contact();
@@ -306,13 +321,20 @@ void Simulation::step() {
   }
   {
     ScopedTimer timer(timers_, "body_corrector");
+    const body::RigidBodyState start = body_->state();
     if (contact_) {
-      const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic);
+      const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic, virtual_inertia_);
       last_.contact = contact.mean_wrench;
       last_.wall_gap_si = contact.min_gap_si;
     } else {
-      body_->correct(dt_si, last_.hydrodynamic);
+      body_->correct(dt_si, last_.hydrodynamic, virtual_inertia_);
     }
+    // This step's mean accelerations are the next step's estimate a_est (the previous step's
+    // acceleration, as waLBerla's AddVirtualForceTorqueKernel takes it): a lag of one step, so the
+    // virtual terms m_v (a_est - a) vanish whenever the acceleration is steady.
+    virtual_inertia_.acceleration_si = (body_->state().velocity_si - start.velocity_si) / dt_si;
+    virtual_inertia_.angular_acceleration_b_si =
+        (body_->state().angular_velocity_b_si - start.angular_velocity_b_si) / dt_si;
   }
   {
     ScopedTimer timer(timers_, "moving_window");

@@ -10,14 +10,21 @@
 //  4. hydrodynamic_force minus the marker forces plus the rate of change of the fluid momentum
 //                        inside the body (Kempe and Froehlich 2012), at the predicted pose
 //  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct),
-//                        plus the particle-wall contact force, sub-stepped, when the body is near a
-//                        wall (body::WallContact; docs/rigid-body.md)
+//                        stabilised for light bodies by a virtual mass and inertia (below), plus the
+//                        particle-wall contact force, sub-stepped, when the body is near a wall
+//                        (body::WallContact; docs/rigid-body.md)
 //  6. moving_window      shift the fluid one cell when the body is a cell off its starting place
 //
 // Coupling choices written down here: the markers move with the velocities of the step's start
 // (explicit in the body velocity, as Uhlmann 2005 and Breugem 2012); the wrench measured at the
-// predicted pose is held constant over the step by the corrector. Lattice Boltzmann has no
-// gravity in the fluid: hydrostatic pressure is absent, so buoyancy enters the body explicitly
+// predicted pose is held constant over the step by the corrector. That explicit coupling is
+// unstable when the fluid's response within one step outweighs the body's inertia (light, sharp-
+// edged bodies at coarse resolution: docs/coupling.md, "Stability of light bodies"), so the
+// corrector adds a virtual mass 0.5 rho_f V and a virtual inertia (rho_f / rho_p) I to both sides
+// of Newton-Euler, with the previous step's accelerations on the right (Schwarz, Kempe and
+// Froehlich 2015, J. Comput. Phys. 281, 591; body::VirtualInertia): an approximation that leaves
+// steady motion unchanged and acts on transients only. Lattice Boltzmann has no gravity in the
+// fluid: hydrostatic pressure is absent, so buoyancy enters the body explicitly
 // (RigidBody's net weight), and a body force on the fluid stands for a mean pressure gradient.
 // Output (step 7) is the runner's business (coupling/runner.hpp), on its own schedule.
 #include <array>
@@ -182,6 +189,9 @@ class Simulation {
   /// case chooses how much fluid lies ahead of the body and how much wake behind it.
   Eigen::Vector3d window_anchor_ = Eigen::Vector3d::Zero();
   FluidMomentum internal_before_;
+  /// The corrector's virtual mass and inertia (zero unless the body is free) with the last step's
+  /// accelerations as the estimate for the next (docs/coupling.md, "Stability of light bodies").
+  body::VirtualInertia virtual_inertia_;
   SubstepTimers timers_;
   StepObservation last_;
   std::int64_t steps_ = 0;

@@ -195,11 +195,19 @@ std::string to_toml(const Value& value) {
     std::string operator()(bool b) const { return b ? "true" : "false"; }
     std::string operator()(std::int64_t i) const { return std::to_string(i); }
     std::string operator()(double d) const { return format_number(d); }
+    // A TOML basic string: besides '"' and '\', every control character (U+0000-U+001F and
+    // U+007F) must be escaped, or the resolved case would not read back (fuzz_case's round-trip
+    // check, docs/fuzzing.md). Other bytes are copied: the text came from a TOML parser (UTF-8).
     std::string operator()(const std::string& s) const {
       std::string out = "\"";
       for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
+        const auto byte = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') out += std::string{'\\', c};
+        else if (c == '\n') out += "\\n";
+        else if (c == '\t') out += "\\t";
+        else if (c == '\r') out += "\\r";
+        else if (byte < 0x20 || byte == 0x7F) out += fmt::format("\\u{:04X}", byte);
+        else out += c;
       }
       return out + "\"";
     }

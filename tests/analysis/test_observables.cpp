@@ -319,6 +319,23 @@ TEST(Analysis, ShortRunIsAveragedOverItsSecondHalfAndNotClassified) {
   EXPECT_NEAR(a.window_start_si, 0.1, 1e-12);
   EXPECT_EQ(a.regime.regime, Regime::not_classified);
   EXPECT_NE(a.regime.reason.find("second half"), std::string::npos) << a.regime.reason;
+  EXPECT_FALSE(a.time_to_95_percent_si) << "no terminal state, no t_95";
+}
+
+TEST(Analysis, TimeToNinetyFivePercentIsThatOfTheExponentialApproach) {
+  // Mordant and Pinton's fit u = U (1 - exp(-3 t / T)) crosses 0.95 U at t = T ln(20) / 3.
+  // Sampled every 1 ms, linear interpolation misses the crossing by at most
+  // u'' dt^2 / 8 / u' = (3 / T) dt^2 / 8 = 6e-6 s; the terminal velocity is the window mean of
+  // a curve within exp(-30) of U there.
+  const ParticleProperties sphere = settle::test::sphere_in_water(1e-3);
+  const double U = 0.1, T = 0.06;
+  Motion motion;
+  motion.velocity = [&](double t) { return Eigen::Vector3d(0.0, 0.0, -U * (1.0 - std::exp(-3.0 * t / T))); };
+  const Analysis a = analyse(sample_motion(motion, 0.001, 2.0), sphere);
+  ASSERT_TRUE(a.terminal.reached);
+  ASSERT_TRUE(a.time_to_95_percent_si);
+  EXPECT_NEAR(*a.time_to_95_percent_si, T * std::log(20.0) / 3.0, 1e-5);
+  EXPECT_TRUE(to_json(a)["terminal_state"]["time_to_95_percent"].is_number());
 }
 
 TEST(Analysis, ZeroGravityIsRefusedNamingTheKey) {

@@ -370,5 +370,94 @@ TEST(RigidBodyMotionKinds, RejectsInvalidMassProperties) {
   EXPECT_THROW(RigidBody(mass_properties(1.0, 1.0, -identity), Environment{}, RigidBodyState{}), std::invalid_argument);
 }
 
+// ---------------------------------------------------------------------------------------
+// The corrector's virtual mass and inertia (VirtualInertia; Schwarz, Kempe and Froehlich 2015):
+// m_v a_est and I_v alpha_est on the right, m_v and I_v on the left.
+
+struct VirtualInertiaCase {
+  MassProperties properties = mass_properties(2.0, 1.5e-3, Eigen::Vector3d(0.1, 0.2, 0.3).asDiagonal());
+  Environment environment{998.2, Eigen::Vector3d(0.0, 0.0, -9.81)};
+  Attitude start = Attitude::from_set1(0.2, 0.4, -0.3);
+  double torque_about_body_z = 0.06;  // N m
+  Wrench external() const {
+    // The torque about the body's principal z axis, which keeps its direction while the body
+    // spins about it: domega_b/dt = (0, 0, T / I_zz) exactly (no gyroscopic term).
+    return {Eigen::Vector3d(0.3, -0.2, 0.1), start.body_to_inertial() * Eigen::Vector3d(0.0, 0.0, torque_about_body_z)};
+  }
+  Eigen::Vector3d acceleration() const {
+    const double buoyant_mass = properties.mass - environment.fluid_density_si * properties.volume;
+    return (external().force_si + buoyant_mass * environment.gravity_si) / properties.mass;
+  }
+  Eigen::Vector3d angular_acceleration_b() const {
+    return Eigen::Vector3d(0.0, 0.0, torque_about_body_z / properties.inertia(2, 2));
+  }
+  RigidBody body() const {
+    return RigidBody(properties, environment,
+                     {Eigen::Vector3d::Zero(), Eigen::Vector3d(0.5, 0.0, -1.0), start, Eigen::Vector3d::Zero()});
+  }
+  VirtualInertia virtual_inertia(const Eigen::Vector3d& a_est, const Eigen::Vector3d& alpha_est) const {
+    return {0.7, 0.4 * properties.inertia, a_est, alpha_est};
+  }
+};
+
+TEST(RigidBodyVirtualInertia, ZeroVirtualInertiaIsThePlainCorrectorBitForBit) {
+  // A non-diagonal inertia and a torque off every axis, so the gyroscopic term is at work.
+  Eigen::Matrix3d inertia;
+  inertia << 0.3, 0.02, -0.01, 0.02, 0.2, 0.03, -0.01, 0.03, 0.1;
+  const RigidBodyState start{Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(0.1, -0.2, 0.3),
+                             Attitude::from_set1(0.3, -0.2, 0.5), Eigen::Vector3d(1.0, -2.0, 0.5)};
+  const Environment environment{998.2, Eigen::Vector3d(0.0, 0.0, -9.81)};
+  RigidBody plain(mass_properties(2.0, 1.5e-3, inertia), environment, start);
+  RigidBody with_zero(mass_properties(2.0, 1.5e-3, inertia), environment, start);
+  const Wrench wrench{Eigen::Vector3d(0.3, -0.2, 0.1), Eigen::Vector3d(0.01, 0.02, -0.03)};
+  for (int i = 0; i < 50; ++i) {
+    plain.correct(0.01, wrench);
+    with_zero.correct(0.01, wrench, VirtualInertia{});
+  }
+  EXPECT_EQ(with_zero.state().position_si, plain.state().position_si);
+  EXPECT_EQ(with_zero.state().velocity_si, plain.state().velocity_si);
+  EXPECT_EQ(with_zero.state().angular_velocity_b_si, plain.state().angular_velocity_b_si);
+  EXPECT_EQ(with_zero.state().attitude.angles(), plain.state().attitude.angles());
+}
+
+TEST(RigidBodyVirtualInertia, LeavesASteadyAccelerationUnchanged) {
+  // When the estimate is the step's own acceleration, m_v a_est = m_v a and I_v alpha_est = I_v alpha
+  // cancel the added inertia: the motion is the plain one (the terminal state and any steady
+  // acceleration are untouched). 50 steps of 0.01 s; the two differ by round-off only.
+  const VirtualInertiaCase c;
+  RigidBody plain = c.body();
+  RigidBody stabilised = c.body();
+  const VirtualInertia steady = c.virtual_inertia(c.acceleration(), c.angular_acceleration_b());
+  for (int i = 0; i < 50; ++i) {
+    plain.correct(0.01, c.external());
+    stabilised.correct(0.01, c.external(), steady);
+  }
+  // Velocities of order 1 m/s and 1 rad/s after 50 steps of a few round-offs each.
+  EXPECT_LT((stabilised.state().velocity_si - plain.state().velocity_si).norm(), 1e-13);
+  EXPECT_LT((stabilised.state().position_si - plain.state().position_si).norm(), 1e-13);
+  EXPECT_LT((stabilised.state().angular_velocity_b_si - plain.state().angular_velocity_b_si).norm(), 1e-13);
+  EXPECT_LT((stabilised.state().attitude.angles() - plain.state().attitude.angles()).norm(), 1e-12);
+  // And the plain motion is the closed form: a constant acceleration and a constant body rate change.
+  EXPECT_LT((stabilised.state().velocity_si - (Eigen::Vector3d(0.5, 0.0, -1.0) + 0.5 * c.acceleration())).norm(), 1e-13);
+  EXPECT_LT((stabilised.state().angular_velocity_b_si - 0.5 * c.angular_acceleration_b()).norm(), 1e-13);
+}
+
+TEST(RigidBodyVirtualInertia, OneStepTakesTheVirtualTermsAsWritten) {
+  // Any other estimate: one step gives (m + m_v) dv/dt = F + W + m_v a_est and, about the principal
+  // axis from rest, (I + I_v) domega/dt = T + I_v alpha_est, exactly (constant rates).
+  const VirtualInertiaCase c;
+  const Eigen::Vector3d a_est(1.0, -2.0, 3.0), alpha_est(0.0, 0.0, -5.0);
+  const VirtualInertia v = c.virtual_inertia(a_est, alpha_est);
+  RigidBody body = c.body();
+  const double dt = 0.01;
+  body.correct(dt, c.external(), v);
+  const double m = c.properties.mass;
+  const Eigen::Vector3d a = (m * c.acceleration() + v.mass_si * a_est) / (m + v.mass_si);
+  EXPECT_LT((body.state().velocity_si - (Eigen::Vector3d(0.5, 0.0, -1.0) + dt * a)).norm(), 1e-15);
+  const double izz = c.properties.inertia(2, 2), iv = v.inertia_b_si(2, 2);
+  const double alpha = (c.torque_about_body_z + iv * alpha_est.z()) / (izz + iv);
+  EXPECT_LT((body.state().angular_velocity_b_si - Eigen::Vector3d(0.0, 0.0, dt * alpha)).norm(), 1e-15);
+}
+
 }  // namespace
 }  // namespace settle::body

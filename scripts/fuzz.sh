@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Fuzzes the case parser and the STL reader (docs/fuzzing.md): builds tests/fuzz with clang and
+# libFuzzer (SETTLE_FUZZ=ON: ASan + UBSan + coverage), then runs each target for SECONDS
+# (default 60) in one process. Crash, timeout and out-of-memory inputs go to $BUILD/findings/;
+# the script exits with status 1 when any target found something.
+#
+#   scripts/fuzz.sh [SECONDS]
+#
+# Environment: SETTLE_FUZZ_BUILD_DIR (default build/fuzz), SETTLE_FUZZ_JOBS (build jobs,
+# default: all cores). The corpus each target grows is kept in $BUILD/corpus/<target> and reused
+# by the next run; the seeds are tests/fuzz/corpus_case and tests/fuzz/corpus_stl.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+seconds=${1:-60}
+if ! [[ $seconds =~ ^[1-9][0-9]*$ ]]; then
+  echo "usage: scripts/fuzz.sh [SECONDS]  (a positive whole number of seconds per target, got '$seconds')" >&2
+  exit 2
+fi
+build=${SETTLE_FUZZ_BUILD_DIR:-build/fuzz}
+jobs=${SETTLE_FUZZ_JOBS:-$(nproc)}
+
+# clang, libFuzzer (libclang-rt) and clang's OpenMP runtime: only this step needs them.
+bash scripts/install-deps.sh clang-14 libclang-rt-14-dev libomp-14-dev
+
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++-14 -DSETTLE_FUZZ=ON \
+  -DSETTLE_BUILD_TESTS=OFF -DSETTLE_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build "$build" -j "$jobs" --target fuzz_case fuzz_stl
+
+findings="$build/findings"
+mkdir -p "$findings" "$build/logs"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export OMP_NUM_THREADS=1
+
+failed=()
+run_target() {
+  local target=$1 seeds=$2
+  shift 2
+  local corpus="$build/corpus/$target" log="$build/logs/$target.log"
+  mkdir -p "$corpus"
+  echo "fuzz: $target for ${seconds} s (log: $log)"
+  # New inputs go to the first corpus directory (the build's); the seeds are only read.
+  if "$build/tests/fuzz/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -artifact_prefix="$findings/$target-" -print_final_stats=1 "$@" "$corpus" "$seeds" >"$log" 2>&1; then
+    grep -E "^(Done|stat::number_of_executed_units|stat::peak_rss_mb)" "$log" | sed "s/^/fuzz: $target: /" || true
+  else
+    echo "fuzz: $target: FINDING (status $?); last lines of $log:" >&2
+    tail -n 40 "$log" >&2
+    failed+=("$target")
+  fi
+}
+run_target fuzz_case tests/fuzz/corpus_case -dict=tests/fuzz/case.dict
+run_target fuzz_stl tests/fuzz/corpus_stl
+
+if ((${#failed[@]} > 0)); then
+  echo "fuzz: findings in ${failed[*]}: inputs in $findings/; reproduce with $build/tests/fuzz/<target> FILE" >&2
+  exit 1
+fi
+echo "fuzz: no findings"

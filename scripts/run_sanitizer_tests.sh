@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Sanitizer stage of CI (issue 7; docs/fuzzing.md): installs what is missing (Debian packages),
+# builds the debug preset (build/debug: the library and the front end instrumented with
+# AddressSanitizer + UndefinedBehaviorSanitizer at -O1 -g1; the tests' own code is not, but links
+# the runtimes) and runs its unit and case tests. The debug test preset leaves out the tests labelled `heavy`
+# (tests/heavy_tests.cmake: long numerical runs, still run by the release preset of
+# scripts/run_tests.sh). A sanitizer report fails the test that triggered it (halt_on_error,
+# abort_on_error in the preset).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+bash scripts/install-deps.sh
+cmake --preset debug >/dev/null
+cmake --build --preset debug
+
+# The code under test must carry the instrumentation (a flag lost from the library's targets would
+# otherwise make this stage pass without checking anything).
+undefined_symbols=$(nm --undefined-only build/debug/src/libsettle.a 2>/dev/null)
+for sym in __asan_report_load8 __ubsan_handle_; do
+  if ! grep -q " U ${sym}" <<<"$undefined_symbols"; then
+    echo "run_sanitizer_tests: build/debug/src/libsettle.a has no calls to ${sym}*: not instrumented" >&2
+    exit 1
+  fi
+done
+
+# A renamed heavy test would silently lose its label and make this stage too slow for CI.
+listed=$(grep -cE '^\s+[A-Za-z0-9_/]+\.[A-Za-z0-9_/]+' tests/heavy_tests.cmake)
+labelled=$(ctest --test-dir build/debug -N -L heavy | grep -cE '^\s*Test +#' || true)
+if [[ $listed != "$labelled" ]]; then
+  echo "run_sanitizer_tests: tests/heavy_tests.cmake names $listed tests but $labelled carry the label heavy;" \
+    "update the names there" >&2
+  exit 1
+fi
+
+ctest --preset debug

@@ -1,0 +1,33 @@
+# Read by ctest (TEST_INCLUDE_FILES of tests/coupling, tests/lbm and tests/app; see
+# tests/CMakeLists.txt), after gtest_discover_tests has registered the tests: gives the extra
+# label `heavy` to the numerical tests too slow for the sanitizer build. The debug test preset
+# (scripts/run_sanitizer_tests.sh) leaves them out; the release preset runs them as before.
+# They run the same library code as the lighter tests of their suites, for more steps or on
+# larger grids. Seconds measured on the 2-core development machine with two tests at a time
+# (docs/fuzzing.md): sanitizer build (library and front end instrumented, -O1 -g1) / release.
+# scripts/run_sanitizer_tests.sh checks that every name here still exists.
+set_tests_properties(
+  SpheroidStokesDrag.ProlateBroadsideAt10CellsPerDiameter                     # 734 / 129
+  RotatingSphere.StokesTorqueAt16CellsPerDiameter                             # 259 / 35
+  PeriodicSphereArray.DilutePhi0065At16CellsPerDiameter                       # 145 / 26
+  PeriodicSphereArray.ModeratePhi0155At16CellsPerDiameter                     # 42 / 3.6
+  LbmTaylorGreen.TrtD3Q19EnergyDecayRateWithinOnePercentAt64Cubed             # 79 / 4.3
+  LbmTaylorGreen.EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed   # 36 / 2.9
+  LbmStability.ShearLayerNearHalfTauBlowsUpBgkAndTrtButNotRecursiveRegularized  # 31 / 3.3
+  WallContact.TiltedSpheroidLandsOnItsTipAndComesToRest                       # 62 / 6.6
+  WallContact.SphereSettlesOntoTheBottomAndComesToRest                        # 39 / 3.3
+  CouplingLightBody.AcrylicCubeAt8CellsStaysBoundedOverTheFirstTenthOfASecond  # 27 / 2.4
+  PROPERTIES LABELS "unit;heavy")
+set_tests_properties(
+  FreeSettling.SphereReachesTheStandardDragCurveAndStaysSymmetric  # 575 / 69
+  RunCli.StopsAtTheTerminalStateTheAnalysisFinds                   # 170 / 14
+  RestartCli.TerminatedRunExits143WithACheckpointAndNoSummary      # 42 / 3.0
+  AnalyzeCli.BrokenRunDirectoriesAreRefusedNamingTheCulprit        # 38 / 3.7
+  AnalyzeCli.ViscousRunReachesASteadyObliqueTerminalState          # 36 / 3.9
+  # The validation cases' grids hold 7-8 million cells (four times a ten Cate grid, whose five
+  # steps take 15 s here); the other shipped cases run the same code on smaller grids.
+  Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/mordant_pinton_1
+  Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/mordant_pinton_2
+  Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/uhlmann_dusek_A
+  Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/uhlmann_dusek_B
+  PROPERTIES LABELS "case;heavy")
