@@ -136,6 +136,15 @@ void SettlingSeries::add(double t, const Eigen::Vector3d& position, const Eigen:
   torque_si.push_back(torque);
 }
 
+SettlingSeries SettlingSeries::since(double t0_si) const {
+  SettlingSeries out;
+  for (std::size_t k = 0; k < size(); ++k)
+    if (t_si[k] >= released_from(t0_si))
+      out.add(t_si[k], position_si[k], velocity_si[k], angular_velocity_n_si[k], angular_velocity_b_si[k],
+              body_to_inertial[k], force_si[k], torque_si[k]);
+  return out;
+}
+
 const std::vector<std::string>& settling_series_columns() {
   static const std::vector<std::string> columns{"t",   "x",   "y",   "z",     "ux",    "uy", "uz", "wx",
                                                 "wy",  "wz",  "wbx", "wby",   "wbz",   "psi", "theta", "gamma",

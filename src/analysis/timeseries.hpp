@@ -48,6 +48,11 @@ Timeseries parse_timeseries_csv(std::string_view text, const std::string& source
 /// Reads and parses a CSV file; settle::InputError naming the file when it cannot be read.
 Timeseries read_timeseries_csv(const std::filesystem::path& path);
 
+/// The first sample time that belongs to the free motion of a body released at release_time_si:
+/// the release time less a relative 1e-9, so that a sample taken at the release (its time summed
+/// from steps of dt) counts.
+inline double released_from(double release_time_si) { return release_time_si * (1.0 - 1e-9); }
+
 /// The motion of a settling particle, sample by sample. SI units, inertial frame (z up in
 /// settle's cases) unless named body. body_to_inertial is C_b^n (v_n = C_b^n v_b), built from
 /// the set-1 Euler angles (psi, theta, gamma) of the file (attitude/attitude.hpp).
@@ -62,6 +67,9 @@ struct SettlingSeries {
   std::vector<Eigen::Vector3d> torque_si;  ///< hydrodynamic torque about the centre of mass, N m
 
   [[nodiscard]] std::size_t size() const { return t_si.size(); }
+  /// The samples at t >= released_from(t0_si): the free motion of a body released at t0
+  /// (particle.release_time).
+  [[nodiscard]] SettlingSeries since(double t0_si) const;
   /// Appends one sample (tests build synthetic series with this).
   void add(double t, const Eigen::Vector3d& position, const Eigen::Vector3d& velocity,
            const Eigen::Vector3d& angular_velocity_n, const Eigen::Vector3d& angular_velocity_b,

@@ -23,6 +23,7 @@
 
 #include "analysis/observables.hpp"
 #include "analysis/terminal_state.hpp"
+#include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
 #include "app/run_checkpoints.hpp"
 #include "app/console.hpp"
@@ -341,13 +342,16 @@ void run_case(const RunOptions& options) {
   callbacks.on_progress = [&console](const std::string& line) { console.progress(line); };
   std::optional<analysis::TerminalStateDetector> terminal = terminal_detector(values, sim, console);
   if (terminal)
-    callbacks.stop_after_sample = [&terminal](const coupling::Sample& s) {
+    callbacks.stop_after_sample = [&terminal, &sim](const coupling::Sample& s) {
+      // As the analysis, the detector sees the free motion only (after particle.release_time).
+      if (s.t_si < analysis::released_from(sim.setup().release_time_si)) return std::string();
       terminal->add(s.t_si, s.velocity_si);
       return terminal->reached() ? std::string("terminal_state") : std::string();
     };
   // A restart feeds the detector the samples before the checkpoint, as the run did.
   if (terminal && restart)
-    for (const coupling::Sample& s : restart->loop().samples) terminal->add(s.t_si, s.velocity_si);
+    for (const coupling::Sample& s : restart->loop().samples)
+      if (s.t_si >= analysis::released_from(sim.setup().release_time_si)) terminal->add(s.t_si, s.velocity_si);
   std::optional<VtkOutput> vtk;
   if (values.real("run.vtk_interval") > 0.0) {
     vtk.emplace(sim, dir, values.real("run.vtk_interval"));

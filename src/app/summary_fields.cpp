@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/core.h>
+
 #include "analysis/timeseries.hpp"
 #include "common/error.hpp"
 
@@ -32,7 +34,13 @@ json prediction_json(const analysis::LawPrediction& p, analysis::Orientation ori
 
 analysis::Analysis analyse_timeseries(const coupling::SimulationSetup& setup, const std::filesystem::path& timeseries,
                                       const analysis::AnalysisOptions& options) {
-  const analysis::SettlingSeries series = analysis::settling_series(analysis::read_timeseries_csv(timeseries));
+  // A body held before its release (particle.release_time) is analysed from the release on: the
+  // held phase is the preparation of the flow, not settling.
+  const analysis::SettlingSeries series =
+      analysis::settling_series(analysis::read_timeseries_csv(timeseries)).since(setup.release_time_si);
+  if (series.size() < 2)
+    throw InputError(fmt::format("{}: {} samples after the release at particle.release_time = {:g} s; the analysis "
+                                 "needs at least 2", timeseries.string(), series.size(), setup.release_time_si));
   return analysis::analyse(series, analysis::particle_properties(setup), options);
 }
 

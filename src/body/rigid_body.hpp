@@ -140,6 +140,11 @@ class RigidBody {
   /// a zero VirtualInertia it is exactly correct(dt, external_n).
   void correct(double dt_si, const Wrench& external_n, const VirtualInertia& virtual_inertia);
 
+  /// Moves the body for one step of dt with its current velocity and body angular velocity held
+  /// (as a towed body moves), whatever its motion kind but fixed: a free body held before its
+  /// release (SimulationSetup::release_time_si).
+  void hold(double dt_si) { advance_prescribed(dt_si); }
+
   /// One RK4 step of the full Newton-Euler system from t to t + dt, with gravity, buoyancy
   /// and the external wrench evaluated at every stage (an empty function means none).
   /// Towed and fixed bodies follow their prescribed motion instead.

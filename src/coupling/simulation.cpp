@@ -1,5 +1,6 @@
 #include "coupling/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -124,9 +125,12 @@ double expected_speed_si(const SimulationSetup& s) {
     case body::MotionKind::free:
       break;
   }
-  return estimated_terminal_speed_si(d, s.particle_density_si, s.fluid_density_si, s.dynamic_viscosity_si,
-                                     s.gravity_si.norm()) +
-         s.initial.velocity_si.norm() + rotation;
+  // Under gravity and drag the velocity relaxes from its initial value towards the terminal one;
+  // with a drag linear in the velocity it is a convex combination of the two, so its magnitude
+  // stays below the larger (a body released at its terminal speed does not halve dt).
+  const double terminal = estimated_terminal_speed_si(d, s.particle_density_si, s.fluid_density_si,
+                                                      s.dynamic_viscosity_si, s.gravity_si.norm());
+  return std::max(terminal, s.initial.velocity_si.norm()) + rotation;
 }
 
 void SubstepTimers::add(const char* name, double seconds) {
@@ -156,6 +160,10 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
   derived_.galileo = galileo_number(derived_.equivalent_diameter_si, setup_.particle_density_si, setup_.fluid_density_si,
                                     units_.kinematic_viscosity_si(), setup_.gravity_si.norm());
   derived_.cells = grid_cells(setup_, units_.dx_si());
+  // The first step that starts at or after the release time (a relative tolerance keeps a time
+  // given as a whole number of steps from rounding up by one).
+  if (setup_.motion == body::MotionKind::free && setup_.release_time_si > 0.0)
+    derived_.release_step = static_cast<std::int64_t>(std::ceil(setup_.release_time_si / units_.dt_si() * (1.0 - 1e-12)));
   frame_.dx_si = units_.dx_si();
 
   lbm::SolverConfig config;
@@ -322,7 +330,9 @@ void Simulation::step() {
   {
     ScopedTimer timer(timers_, "body_corrector");
     const body::RigidBodyState start = body_->state();
-    if (contact_) {
+    if (held()) {
+      body_->hold(dt_si);
+    } else if (contact_) {
       const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic, virtual_inertia_);
       last_.contact = contact.mean_wrench;
       last_.wall_gap_si = contact.min_gap_si;

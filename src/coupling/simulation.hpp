@@ -9,7 +9,8 @@
 //     fluid              collide (Guo forcing, second order) and stream
 //  4. hydrodynamic_force minus the marker forces plus the rate of change of the fluid momentum
 //                        inside the body (Kempe and Froehlich 2012), at the predicted pose
-//  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct),
+//  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct)
+//                        (a free body held before its release keeps its initial velocities),
 //                        stabilised for light bodies by a virtual mass and inertia (below), plus the
 //                        particle-wall contact force, sub-stepped, when the body is near a wall
 //                        (body::WallContact; docs/rigid-body.md)
@@ -58,6 +59,9 @@ struct SimulationSetup {
   /// Initial state. For a towed body, velocity_si and angular_velocity_b_si are the prescribed
   /// constant motion.
   body::RigidBodyState initial;
+  /// Free bodies: until this time (s) the body keeps its initial velocity and angular velocity
+  /// while the flow around it develops, then it moves freely (particle.release_time).
+  double release_time_si = 0.0;
 
   double fluid_density_si = 998.2;
   double dynamic_viscosity_si = 1.0e-3;
@@ -104,11 +108,14 @@ struct DerivedQuantities {
   double equivalent_diameter_si = 0.0;
   std::array<int, 3> cells{};
   std::size_t marker_count = 0;
+  /// A free body is held during the steps before this one (SimulationSetup::release_time_si).
+  std::int64_t release_step = 0;
 };
 
 /// The speed the time step must resolve (see the file comment of units.hpp): towing speed plus
 /// rotation, the estimated driven speed for a fixed body with a body force, or the
-/// Schiller-Naumann terminal speed of the volume-equivalent sphere for a free body.
+/// larger of the Schiller-Naumann terminal speed of the volume-equivalent sphere and the initial
+/// speed, plus rotation, for a free body.
 double expected_speed_si(const SimulationSetup& setup);
 
 /// Wall-clock seconds spent in each named sub-step, in step order.
@@ -164,6 +171,9 @@ class Simulation {
   const StepObservation& last_step() const { return last_; }
   const LatticeFrame& frame() const { return frame_; }
   std::int64_t steps() const { return steps_; }
+  /// True while a free body is held before its release (SimulationSetup::release_time_si): the
+  /// next step moves it with its initial velocities, the fluid forms its wake around it.
+  bool held() const { return steps_ < derived_.release_step; }
 
   /// Mean fluid velocity over the whole domain with the solid counted as zero (the superficial
   /// velocity of Zick and Homsy 1982), m/s. Sweeps the whole grid: for outputs, not every step.

@@ -162,6 +162,14 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   } else if (v.has("particle.towing_velocity")) {
     throw InputError("particle.towing_velocity: only for particle.motion = \"towed\"; remove it or set motion = \"towed\"");
   }
+  s.release_time_si = v.real("particle.release_time");
+  if (s.release_time_si > 0.0 && s.motion != body::MotionKind::free)
+    throw InputError("particle.release_time: only for particle.motion = \"free\" (a towed or fixed body is never "
+                     "released); remove it or set motion = \"free\"");
+  if (s.release_time_si > 0.0 && s.release_time_si >= v.real("run.end_time"))
+    throw InputError(fmt::format("particle.release_time: {:g} s is not before run.end_time ({:g} s), so the body would "
+                                 "never move freely; lower it or raise run.end_time",
+                                 s.release_time_si, v.real("run.end_time")));
   if (s.motion == body::MotionKind::fixed) {
     s.initial.velocity_si.setZero();
     s.initial.angular_velocity_b_si.setZero();

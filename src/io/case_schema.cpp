@@ -76,6 +76,9 @@ std::vector<KeySpec> declare() {
               "initial attitude, set-1 Euler angles (psi, theta, gamma), body to inertial"),
       vector3("particle.velocity", vec(0.0, 0.0, 0.0), "m/s", {}, "initial velocity"),
       vector3("particle.angular_velocity", vec(0.0, 0.0, 0.0), "rad/s", {}, "initial angular velocity, body frame"),
+      real("particle.release_time", Value(0.0), "s", non_negative(),
+           "free bodies: held at the initial velocity and angular velocity until this time while the flow around "
+           "them develops, then free (0: free from the start)"),
       // [domain]
       vector3("domain.size", std::nullopt, "m", positive(), "extent of the domain from the origin"),
       choice("domain.walls.x", "no-slip", walls, "boundary of the two faces normal to x"),

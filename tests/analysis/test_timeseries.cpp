@@ -150,4 +150,20 @@ TEST(SettlingSeries, RefusesMissingColumnsNonFiniteValuesAndTimeGoingBack) {
   EXPECT_NE(message_of_series(one_row).find("1 data rows"), std::string::npos);
 }
 
+TEST(SettlingSeries, SinceTheReleaseKeepsTheSampleTakenAtIt) {
+  // Sample times summed from steps (0.1 + 0.1 + 0.1 = 0.30000000000000004) land a rounding error
+  // off the release time: that sample is the state at the release and belongs to the free motion.
+  SettlingSeries series;
+  double t = 0.0;
+  for (int k = 0; k < 6; ++k, t += 0.1)
+    series.add(t, Eigen::Vector3d(0.0, 0.0, -t), Eigen::Vector3d(0.0, 0.0, -1.0), Eigen::Vector3d::Zero(),
+               Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity());
+  const SettlingSeries free = series.since(0.3);
+  ASSERT_EQ(free.size(), 3u);
+  EXPECT_DOUBLE_EQ(free.t_si.front(), 0.3);
+  EXPECT_EQ(free.position_si.front(), series.position_si[3]);
+  EXPECT_EQ(series.since(0.0).size(), series.size());
+  EXPECT_EQ(series.since(0.31).size(), 2u);
+}
+
 }  // namespace

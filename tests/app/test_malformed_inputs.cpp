@@ -356,6 +356,20 @@ TEST_F(MalformedInput, TowedWithoutVelocity) {
   expect_refused_set("--set 'particle.motion=\"towed\"'", {"particle.towing_velocity"});
 }
 
+TEST_F(MalformedInput, ReleaseTimeOfATowedBody) {
+  expect_refused_set("--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.01]' "
+                     "--set particle.release_time=0.01",
+                     {"particle.release_time", "free"});
+}
+
+TEST_F(MalformedInput, ReleaseAfterTheEndOfTheRun) {
+  expect_refused_set("--set run.end_time=0.1 --set particle.release_time=0.1", {"particle.release_time", "run.end_time"});
+}
+
+TEST_F(MalformedInput, NegativeReleaseTime) {
+  expect_refused_set("--set particle.release_time=-0.01", {"release_time", "must be >= 0"});
+}
+
 // ---- keys, tables, --set -------------------------------------------------------------------------
 
 TEST_F(MalformedInput, UnknownKeyInTheFileWithASuggestion) {

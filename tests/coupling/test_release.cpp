@@ -1,0 +1,89 @@
+// A free body held before its release (particle.release_time): until the release it moves exactly
+// as a towed body with its initial velocity, so the flow and the forces are those of the towed
+// body bit for bit; from the release on it obeys Newton-Euler. The sphere moves at 1.5 times its
+// estimated terminal speed, so both bodies get the same time step (the expected speed of a free body
+// is the larger of its terminal and initial speeds, that of a towed one its towing speed).
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "body/shape_factory.hpp"
+#include "coupling/simulation.hpp"
+
+namespace {
+
+using namespace settle;
+using namespace settle::coupling;
+
+constexpr double kDiameter = 1.0e-3;  // m
+constexpr int kHeldSteps = 160;
+
+SimulationSetup sphere_moving_down(body::MotionKind motion) {
+  SimulationSetup s;
+  body::ShapeSpec spec;
+  spec.shape = "sphere";
+  spec.diameter = kDiameter;
+  s.shape = body::make_shape(spec);
+  s.particle_density_si = 2000.0;
+  s.fluid_density_si = 1000.0;
+  s.dynamic_viscosity_si = 1.0e-3;
+  s.gravity_si = {0.0, 0.0, -9.81};
+  s.domain_size_si = Eigen::Vector3d(4.0, 4.0, 7.0) * kDiameter;
+  s.boundaries = {lbm::Boundary::free_slip, lbm::Boundary::free_slip, lbm::Boundary::no_slip};
+  s.follow_particle = true;
+  s.cells_per_diameter = 8.0;
+  s.initial.position_si = Eigen::Vector3d(2.0, 2.0, 3.0) * kDiameter;
+  s.motion = motion;
+  const double terminal = estimated_terminal_speed_si(kDiameter, s.particle_density_si, s.fluid_density_si,
+                                                      s.dynamic_viscosity_si, 9.81);
+  s.initial.velocity_si = Eigen::Vector3d(0.0, 0.0, -1.5 * terminal);
+  s.end_time_si = 1.0;
+  return s;
+}
+
+TEST(Release, HeldBodyMovesAsTheTowedOneUntilItsReleaseThenSlowsTowardsItsTerminalSpeed) {
+  SimulationSetup held_setup = sphere_moving_down(body::MotionKind::free);
+  Simulation towed(sphere_moving_down(body::MotionKind::towed));
+  held_setup.release_time_si = kHeldSteps * towed.units().dt_si();
+  Simulation held(held_setup);
+  ASSERT_EQ(held.units().dt_si(), towed.units().dt_si());
+  ASSERT_EQ(held.derived().release_step, kHeldSteps) << "a release time of whole steps is not rounded up";
+
+  const Eigen::Vector3d v0 = held_setup.initial.velocity_si;
+  for (int n = 0; n < kHeldSteps; ++n) {
+    ASSERT_TRUE(held.held()) << n;
+    held.step();
+    towed.step();
+    // The same arithmetic on the same numbers: exact equality.
+    EXPECT_EQ(held.body().state().velocity_si, v0) << n;
+    EXPECT_EQ(held.body().state().position_si, towed.body().state().position_si) << n;
+    EXPECT_EQ(held.last_step().hydrodynamic.force_si, towed.last_step().hydrodynamic.force_si) << n;
+  }
+  EXPECT_FALSE(held.held());
+  // Moving down faster than its terminal speed, the held sphere feels an upward drag.
+  EXPECT_GT(held.last_step().hydrodynamic.force_si.z(), 0.0);
+
+  // Released, the sphere slows down: at 1.5 times its terminal speed the drag exceeds the net
+  // weight W by about 0.8 W (Schiller-Naumann), so over 150-200 steps (6 ms) the speed should fall
+  // by about 0.8 W / (m + m_f / 2) * 6 ms = 0.016 m/s, 10% of its initial value. The force still
+  // carries the acoustic waves of the impulsive start reverberating in this small closed box (up to
+  // +-5 W per step), which move the speed by up to 3% either way; hence the mean over the last 50
+  // steps, and a bound of 3%, a third of the expected drop.
+  double sum = 0.0;
+  for (int n = 0; n < 200; ++n) {
+    held.step();
+    if (n >= 150) sum += held.body().state().velocity_si.z();
+  }
+  const double mean = sum / 50.0;
+  EXPECT_GT(mean, 0.97 * v0.z()) << "the released sphere does not slow down";
+  EXPECT_LT(mean, 0.0);
+}
+
+TEST(Release, WithoutAReleaseTimeAFreeBodyIsNeverHeld) {
+  const Simulation sim(sphere_moving_down(body::MotionKind::free));
+  EXPECT_EQ(sim.derived().release_step, 0);
+  EXPECT_FALSE(sim.held());
+}
+
+}  // namespace
