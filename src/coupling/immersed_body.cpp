@@ -17,7 +17,26 @@ int grid_extent(const lbm::Solver& solver, int axis) {
 
 }  // namespace
 
-BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double retraction_cells) {
+namespace {
+
+// Interior markers: a body-fixed cubic lattice of one-cell spacing centred on the centroid, kept
+// where the point lies at least `depth_cells` below the surface. Each stands for one cell of volume.
+void add_interior_markers(const body::Shape& shape, double dx_si, double depth_cells, BodyMarkers& markers) {
+  const body::Aabb box = shape.bounding_box();
+  const Eigen::Vector3d lo = box.lower / dx_si, hi = box.upper / dx_si;
+  for (int k = static_cast<int>(std::ceil(lo.z())); k <= static_cast<int>(std::floor(hi.z())); ++k)
+    for (int j = static_cast<int>(std::ceil(lo.y())); j <= static_cast<int>(std::floor(hi.y())); ++j)
+      for (int i = static_cast<int>(std::ceil(lo.x())); i <= static_cast<int>(std::floor(hi.x())); ++i) {
+        const Eigen::Vector3d p(i, j, k);
+        if (shape.signed_distance(p * dx_si) > -depth_cells * dx_si) continue;
+        markers.offset_b.push_back(p);
+        markers.volume.push_back(1.0);
+      }
+}
+
+}  // namespace
+
+BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double retraction_cells, bool interior) {
   const body::SurfaceMarkers surface = shape.surface_markers(dx_si);
   const double radius_cells = 0.5 * shape.equivalent_diameter() / dx_si;
   const double area_scale = std::pow(std::max(0.0, 1.0 - retraction_cells / radius_cells), 2);
@@ -29,6 +48,9 @@ BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double ret
     // area in cells^2 times one cell width
     markers.volume.push_back(surface.areas[l] / (dx_si * dx_si) * area_scale);
   }
+  // One cell below the surface markers: nearer, the sheet's and the lattice's kernels would
+  // overlap so much that a Jacobi sweep overshoots.
+  if (interior) add_interior_markers(shape, dx_si, retraction_cells + 1.0, markers);
   return markers;
 }
 

@@ -54,7 +54,10 @@ struct BodyMarkers {
 /// marker areas are scaled by (1 - r_d / R_eq)^2 with R_eq the volume-equivalent radius in cells,
 /// so that they tile the retracted surface; exact for a sphere, an approximation of the local
 /// curvature for other shapes.
-BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double retraction_cells);
+/// With `interior`, also a body-fixed lattice of one-cell spacing inside the body (volume one cell
+/// each), at least one cell below the surface markers: it holds the enclosed fluid to the rigid
+/// motion (docs/coupling.md, Interior markers).
+BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double retraction_cells, bool interior = false);
 
 /// Markers at a pose (lattice units): X_l = X_c + C_b^n p_l, target velocity v + omega_n x (X_l - X_c).
 ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,

@@ -197,7 +197,7 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
                                             setup_.initial, setup_.motion);
   if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
-  markers_ = make_body_markers(shape, units_.dx_si(), setup_.marker_retraction_cells);
+  markers_ = make_body_markers(shape, units_.dx_si(), setup_.marker_retraction_cells, setup_.interior_markers);
   derived_.marker_count = markers_.size();
   make_wall_contact();
 

@@ -95,6 +95,8 @@ std::vector<KeySpec> declare() {
       integer("numerics.forcing_iterations", 3, closed(1, 50), "multi-direct forcing sweeps per step"),
       real("numerics.marker_retraction", Value(0.4), "cells", closed(0.0, 0.5),
            "markers sit this far inside the surface (Breugem 2012; 0.4 calibrated for settle, docs/coupling.md)"),
+      boolean("numerics.interior_markers", false,
+              "also force the fluid inside the body, on a body-fixed lattice of one-cell spacing (docs/coupling.md)"),
       real("numerics.max_lattice_velocity", Value(0.05), "", {0.0, 0.2, false, true},
            "largest lattice velocity U dt/dx of the expected speed (Mach bound for choosing dt)"),
       // tau must exceed the converter's min_tau = 0.501 (coupling/units.hpp).

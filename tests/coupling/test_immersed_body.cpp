@@ -71,6 +71,30 @@ TEST(Markers, RetractionMovesMarkersInsideBySpecifiedDistance) {
   EXPECT_NEAR(volume, 4.0 * std::numbers::pi * 7.6 * 7.6, 1e-9 * volume);
 }
 
+TEST(Markers, InteriorLatticeFillsTheBodyOneCellBelowTheSurfaceMarkers) {
+  const double dx = 1.0e-4, d = 16 * dx;
+  const auto shape = sphere(d);
+  const BodyMarkers surface_only = make_body_markers(*shape, dx, 0.4);
+  const BodyMarkers markers = make_body_markers(*shape, dx, 0.4, true);
+  ASSERT_GT(markers.size(), surface_only.size());
+  // The surface markers come first and are unchanged.
+  for (std::size_t l = 0; l < surface_only.size(); ++l)
+    EXPECT_EQ(markers.offset_b[l], surface_only.offset_b[l]);
+  // Interior markers: integer offsets of unit volume, none closer than r_d + 1 = 1.4 cells to the
+  // surface (radius 8), that is |p| <= 6.6.
+  std::size_t interior = 0;
+  for (std::size_t l = surface_only.size(); l < markers.size(); ++l, ++interior) {
+    const Eigen::Vector3d& p = markers.offset_b[l];
+    EXPECT_EQ(p, p.array().round().matrix());
+    EXPECT_LE(p.norm(), 6.6 + 1e-12);
+    EXPECT_EQ(markers.volume[l], 1.0);
+  }
+  // Lattice points in a ball of radius 6.6: the ball's volume 4/3 pi 6.6^3 = 1204 to within the
+  // surface-layer fluctuation of a lattice count (Gauss circle problem in 3-D; well under 5%).
+  const double ball = 4.0 / 3.0 * std::numbers::pi * std::pow(6.6, 3);
+  EXPECT_NEAR(static_cast<double>(interior), ball, 0.05 * ball);
+}
+
 TEST(SolidCells, VolumeOfASphereIsRecovered) {
   const double dx = 1.0;
   const auto shape = sphere(12.0);
