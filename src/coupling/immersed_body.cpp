@@ -15,10 +15,6 @@ int grid_extent(const lbm::Solver& solver, int axis) {
   return axis == 0 ? solver.nx() : axis == 1 ? solver.ny() : solver.nz();
 }
 
-}  // namespace
-
-namespace {
-
 // Interior markers: a body-fixed cubic lattice of one-cell spacing centred on the centroid, kept
 // where the point lies at least `depth_cells` below the surface. Each stands for one cell of volume.
 void add_interior_markers(const body::Shape& shape, double dx_si, double depth_cells, BodyMarkers& markers) {
