@@ -11,6 +11,7 @@ set_tests_properties(
   RotatingSphere.StokesTorqueAt16CellsPerDiameter                             # 259 / 35
   PeriodicSphereArray.DilutePhi0065At16CellsPerDiameter                       # 145 / 26
   PeriodicSphereArray.ModeratePhi0155At16CellsPerDiameter                     # 42 / 3.6
+  PeriodicSphereArray.InteriorMarkersDilutePhi0065At16CellsPerDiameter        # (not measured) / 7
   LbmTaylorGreen.TrtD3Q19EnergyDecayRateWithinOnePercentAt64Cubed             # 79 / 4.3
   LbmTaylorGreen.EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed   # 36 / 2.9
   LbmStability.ShearLayerNearHalfTauBlowsUpBgkAndTrtButNotRecursiveRegularized  # 31 / 3.3

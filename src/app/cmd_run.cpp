@@ -118,9 +118,10 @@ std::string derived_block(const coupling::Simulation& sim) {
       "# mach = {:.6g}  # of the expected speed\n"
       "# reynolds = {:.6g}  # expected speed x d_eq / nu\n"
       "# galileo = {:.6g}\n"
-      "# markers = {}\n",
+      "# markers = {}\n"
+      "# marker_retraction = {:.9g}  # cells\n",
       d.dx_si, d.dt_si, d.tau, d.cells[0], d.cells[1], d.cells[2], d.equivalent_diameter_si, d.expected_speed_si,
-      d.mach, d.reynolds, d.galileo, d.marker_count);
+      d.mach, d.reynolds, d.galileo, d.marker_count, sim.setup().marker_retraction_cells);
 }
 
 nlohmann::json vector_json(const Eigen::Vector3d& v) { return nlohmann::json::array({v[0], v[1], v[2]}); }

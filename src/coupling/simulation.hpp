@@ -78,7 +78,7 @@ struct SimulationSetup {
   lbm::Precision precision = lbm::Precision::float64;
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;
-  double marker_retraction_cells = 0.4;  ///< cells; calibration in docs/coupling.md
+  double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md
   bool interior_markers = false;          ///< volume markers inside the body (make_body_markers)
   double max_lattice_velocity = 0.05;
   double max_tau = 2.0;

@@ -181,8 +181,10 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
   s.kernel = ibm::delta_kernel_from_string(v.string("numerics.delta_kernel"), "numerics.delta_kernel");
   s.forcing_iterations = static_cast<int>(v.integer("numerics.forcing_iterations"));
-  s.marker_retraction_cells = v.real("numerics.marker_retraction");
   s.interior_markers = v.boolean("numerics.interior_markers");
+  s.marker_retraction_cells = v.has("numerics.marker_retraction")
+                                  ? v.real("numerics.marker_retraction")
+                                  : coupling::calibrated_marker_retraction_cells(s.interior_markers);
   s.max_lattice_velocity = v.real("numerics.max_lattice_velocity");
   s.max_tau = v.real("numerics.max_tau");
   if (v.has("numerics.tau")) s.tau = v.real("numerics.tau");

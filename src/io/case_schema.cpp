@@ -93,8 +93,9 @@ std::vector<KeySpec> declare() {
       choice("numerics.precision", "double", {"double", "float"}, "storage precision of the populations"),
       choice("numerics.delta_kernel", "roma3", {"roma3", "peskin4"}, "immersed-boundary delta kernel"),
       integer("numerics.forcing_iterations", 3, closed(1, 50), "multi-direct forcing sweeps per step"),
-      real("numerics.marker_retraction", Value(0.4), "cells", closed(0.0, 0.5),
-           "markers sit this far inside the surface (Breugem 2012; 0.4 calibrated for settle, docs/coupling.md)"),
+      real("numerics.marker_retraction", std::nullopt, "cells", closed(0.0, 0.5),
+           "markers sit this far inside the surface (Breugem 2012); if not given, the calibrated 0.4, or 0.5 "
+           "with interior_markers (docs/coupling.md)"),
       boolean("numerics.interior_markers", false,
               "also force the fluid inside the body, on a body-fixed lattice of one-cell spacing (docs/coupling.md)"),
       real("numerics.max_lattice_velocity", Value(0.05), "", {0.0, 0.2, false, true},

@@ -55,6 +55,7 @@ struct PeriodicSphereOptions {
   double tau = 1.0;
   double retraction = SimulationSetup{}.marker_retraction_cells;  ///< the default of settle run
   int forcing_iterations = 3;
+  bool interior_markers = false;
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   std::int64_t max_steps = 20000;
   double steady_tolerance = 1e-6;  ///< relative change of K per check interval to stop
@@ -81,6 +82,7 @@ inline SimulationSetup periodic_sphere_setup(const PeriodicSphereOptions& o) {
   s.cells_per_diameter = o.cells_per_diameter;
   s.tau = o.tau;
   s.marker_retraction_cells = o.retraction;
+  s.interior_markers = o.interior_markers;
   s.forcing_iterations = o.forcing_iterations;
   s.kernel = o.kernel;
   s.end_time_si = 1.0;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "io/case.hpp"
 #include "io/schema.hpp"
 
 namespace settle::io {
@@ -252,6 +253,22 @@ checkpoint_interval = 0.0
   EXPECT_EQ(v.string("particle.shape"), "spheroid");
   EXPECT_DOUBLE_EQ(v.real("numerics.cells_per_diameter"), 16.0);
   EXPECT_EQ(v.reals("domain.size")[2], 0.12);
+}
+
+// numerics.marker_retraction has no fixed default: each marker layout has its own calibrated
+// retraction (docs/coupling.md), and a given value wins over both.
+TEST(CaseSchema, MarkerRetractionDefaultsToTheCalibrationOfTheMarkerLayout) {
+  const std::string base =
+      "[fluid]\ndensity = 1000\ndynamic_viscosity = 1e-3\n[particle]\nshape = \"sphere\"\ndiameter = 1e-3\n"
+      "density = 2500\n[domain]\nsize = [8e-3, 8e-3, 8e-3]\n[numerics]\n";
+  const auto retraction = [&](const std::string& numerics) {
+    const CaseValues v = parse_case(case_schema(), base + numerics, "c.toml");
+    return simulation_setup(v, ".", "c").marker_retraction_cells;
+  };
+  EXPECT_EQ(retraction(""), 0.4);
+  EXPECT_EQ(retraction("interior_markers = true\n"), 0.5);
+  EXPECT_EQ(retraction("interior_markers = true\nmarker_retraction = 0.3\n"), 0.3);
+  EXPECT_EQ(retraction("marker_retraction = 0.0\n"), 0.0);
 }
 
 }  // namespace
