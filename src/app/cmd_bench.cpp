@@ -88,26 +88,35 @@ nlohmann::json run_bench(const BenchOptions& o) {
   const int steps = o.steps + (o.steps % 2);  // whole even/odd pairs, so both kernels count equally
 
   // The memory bandwidth of a virtual machine drifts with its neighbours' load (on the
-  // development machine single probe sweeps ranged from 41 to 110 GB/s within minutes), so the
-  // kernel and the probe are measured alternately, round after round, and the medians are
-  // reported: each fraction compares the two under the same conditions.
-  std::vector<double> round_seconds, round_bandwidth;
+  // development machine single probe sweeps ranged from 41 to 131 GB/s within minutes, and the
+  // host switched between its fast and slow modes inside one run), so every kernel round is
+  // bracketed by a probe before and after it (rounds + 1 probes) and its fraction is taken
+  // against the mean of the two. The reported fraction is the median over the rounds whose two
+  // probes agree within 10% (the bandwidth held still; over all rounds if none did): comparing
+  // separate medians of MLUPS and bandwidth mixed rounds from different modes. The probe keeps
+  // the best of 3 sweeps, which favours the probe, not the kernel.
+  const auto probe = [&] {
+    return measure_inplace_bandwidth(static_cast<std::size_t>(o.probe_gib * 1073741824.0), 3).bandwidth_gbs;
+  };
+  const double cells = static_cast<double>(solver->cell_count());
+  const double bytes = static_cast<double>(solver->bytes_per_cell_update());
+  std::vector<double> round_seconds, round_bandwidth{probe()}, round_fraction, steady_fraction;
   for (int round = 0; round < o.rounds; ++round) {
-    const BandwidthProbeResult p =
-        measure_inplace_bandwidth(static_cast<std::size_t>(o.probe_gib * 1073741824.0), 3);
-    round_bandwidth.push_back(p.bandwidth_gbs);
     const double start = omp_get_wtime();
     solver->run(steps);
     round_seconds.push_back(omp_get_wtime() - start);
-    fmt::print(stderr, "  round {}: {:.1f} MLUPS, probe {:.1f} GB/s\n", round + 1,
-               static_cast<double>(solver->cell_count()) * steps / round_seconds.back() * 1e-6, p.bandwidth_gbs);
+    round_bandwidth.push_back(probe());
+    const double round_mlups = cells * steps / round_seconds.back() * 1e-6;
+    const double bracket_gbs = 0.5 * (round_bandwidth[round] + round_bandwidth[round + 1]);
+    round_fraction.push_back(round_mlups * 1e6 * bytes * 1e-9 / bracket_gbs);
+    if (std::abs(round_bandwidth[round + 1] - round_bandwidth[round]) <= 0.1 * bracket_gbs)
+      steady_fraction.push_back(round_fraction.back());
+    fmt::print(stderr, "  round {}: {:.1f} MLUPS, probes {:.1f} / {:.1f} GB/s, fraction {:.3f}\n", round + 1,
+               round_mlups, round_bandwidth[round], round_bandwidth[round + 1], round_fraction.back());
   }
   const double seconds = median(round_seconds);
   const double bandwidth_gbs = median(round_bandwidth);
-
-  const double cells = static_cast<double>(solver->cell_count());
   const double mlups = cells * steps / seconds * 1e-6;
-  const double bytes = static_cast<double>(solver->bytes_per_cell_update());
   const double achieved_gbs = mlups * 1e6 * bytes * 1e-9;
   const BuildInfo build = build_info();
 
@@ -125,13 +134,18 @@ nlohmann::json run_bench(const BenchOptions& o) {
   j["achieved_gbs"] = achieved_gbs;
   j["bandwidth_gbs"] = bandwidth_gbs;
   j["rounds"] = o.rounds;
-  j["bandwidth_probe"] = {{"kind", "in-place read-modify-write x = a x + b, best of 3 sweeps per round"},
+  j["bandwidth_probe"] = {{"kind", "in-place read-modify-write x = a x + b, best of 3 sweeps per probe"},
                           {"array_bytes", o.probe_gib * 1073741824.0},
-                          {"bandwidth_gbs_per_round", round_bandwidth}};
+                          {"bandwidth_gbs_before_and_after_rounds", round_bandwidth}};
   std::vector<double> round_mlups;
   for (double t : round_seconds) round_mlups.push_back(cells * steps / t * 1e-6);
   j["mlups_per_round"] = round_mlups;
-  j["roofline_fraction"] = achieved_gbs / bandwidth_gbs;
+  j["roofline_fraction_per_round"] = round_fraction;
+  // Median of the bracketed per-round fractions (see above), not achieved_gbs / bandwidth_gbs.
+  j["steady_rounds"] = steady_fraction.size();
+  j["roofline_fraction"] = median(steady_fraction.empty() ? round_fraction : steady_fraction);
+  if (steady_fraction.empty())
+    j["warning_bandwidth"] = "the bandwidth changed by more than 10% across every round: the fraction is uncertain";
   j["build"] = {{"version", build.version},
                 {"compiler", build.compiler},
                 {"build_type", build.build_type},
@@ -158,7 +172,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--steps", options->steps, "timed steps (rounded up to even)")->capture_default_str();
   cmd->add_option("--threads", options->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
       ->capture_default_str();
-  cmd->add_option("--rounds", options->rounds, "alternating probe/kernel rounds; the medians are reported")
+  cmd->add_option("--rounds", options->rounds, "kernel rounds, each between two bandwidth probes; the median of the per-round fractions is reported")
       ->capture_default_str();
   cmd->add_option("--probe-gib", options->probe_gib, "size of the bandwidth probe's array in GiB")
       ->capture_default_str();

@@ -113,8 +113,8 @@ SETTLE_LBM_INLINE void accumulate(T& acc, bool& started, int c, T value) {
 /// Cost: the code works on pair sums s = g_i + g_o and differences d = g_i - g_o (which also
 /// give the moments cheaply) and groups the per-cell factors so that terms sharing a weight
 /// are computed once (the compiler merges the identical w * factor products):
-///   d+ = w A + c.u (w B c.u + 9 w (1 - omega+/2) c.F) - omega+/2 s,
-///   d- = w D c.u + 3 w (1 - omega-/2) c.F - omega-/2 d,
+///   g*_i + g*_o = 2 [w A + c.u (w B c.u + 9 w (1 - omega+/2) c.F) + (1 - omega+)/2 s],
+///   g*_i - g*_o = 2 [w D c.u + 3 w (1 - omega-/2) c.F + (1 - omega-)/2 d],
 ///   A = omega+ (drho - 3/2 rho u.u) - 3 (1 - omega+/2) u.F,  B = 9/2 omega+ rho,  D = 3 omega- rho.
 struct Trt {
   static constexpr const char* name = "trt";
@@ -152,7 +152,10 @@ struct Trt {
     const T A = wp * (drho - T(1.5) * rho * usq) - T(3.0) * sp * uF;
     const T B = T(4.5) * wp * rho;
     const T D = T(3.0) * wm * rho;
-    const T half_wp = T(0.5) * wp, half_wm = T(0.5) * wm;
+    // The new pair is built from s and d alone (g_i = (s + d)/2, g_o = (s - d)/2), so the 18
+    // incoming populations are dead once s and d exist: that halves the live vector registers
+    // and removes most of the kernel's spills (docs/lbm.md, Speed).
+    const T keep_sym = T(0.5) * (T(1.0) - wp), keep_anti = T(0.5) * (T(1.0) - wm);
     g[0] = (T(1.0) - wp) * g[0] + T(L::set.w[0]) * A;
 #pragma GCC unroll 16
     for (int p = 0; p < P; ++p) {
@@ -161,10 +164,10 @@ struct Trt {
       const T w = T(L::set.w[i]);
       const T cu = lattice_dot(c, ux, uy, uz);
       const T cF = lattice_dot(c, F[0], F[1], F[2]);
-      const T d_sym = w * A + cu * ((w * B) * cu + (T(9.0) * w * sp) * cF) - half_wp * s[p];
-      const T d_anti = (w * D) * cu + (T(3.0) * w * sm) * cF - half_wm * d[p];
-      g[i] += d_sym + d_anti;
-      g[o] += d_sym - d_anti;
+      const T sym = w * A + cu * ((w * B) * cu + (T(9.0) * w * sp) * cF) + keep_sym * s[p];
+      const T anti = (w * D) * cu + (T(3.0) * w * sm) * cF + keep_anti * d[p];
+      g[i] = sym + anti;
+      g[o] = sym - anti;
     }
   }
 };

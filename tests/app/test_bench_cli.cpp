@@ -1,0 +1,44 @@
+// Case test of `settle bench` (the real binary on a tiny box): the JSON that the README's
+// throughput table is read from, and the arithmetic behind its fraction. Timings are not tested
+// (speed is shown by the benchmark itself, never by a timed test).
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+
+namespace {
+
+TEST(BenchCli, EachRoundsFractionIsItsThroughputOverTheMeanOfTheProbesAroundIt) {
+  const auto r = settle::test::run_settle(
+      "bench", "--size 12 --steps 2 --rounds 3 --probe-gib 0.0625 --threads 1 --precision float");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["cells"].get<long>(), 12 * 12 * 12);
+  EXPECT_EQ(j["bytes_per_cell_update"].get<int>(), (2 * 19 + 3) * 4);  // two passes of Q floats + 3 force floats
+  const auto probes = j["bandwidth_probe"]["bandwidth_gbs_before_and_after_rounds"].get<std::vector<double>>();
+  const auto mlups = j["mlups_per_round"].get<std::vector<double>>();
+  const auto fractions = j["roofline_fraction_per_round"].get<std::vector<double>>();
+  ASSERT_EQ(probes.size(), 4u);  // one before the first round and one after each
+  ASSERT_EQ(mlups.size(), 3u);
+  ASSERT_EQ(fractions.size(), 3u);
+  std::vector<double> steady;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double bracket = 0.5 * (probes[k] + probes[k + 1]);
+    // Same formula as the command, so only rounding separates the two.
+    EXPECT_NEAR(fractions[k], mlups[k] * 1e6 * 164 * 1e-9 / bracket, 1e-12 * fractions[k]);
+    if (std::abs(probes[k + 1] - probes[k]) <= 0.1 * bracket) steady.push_back(fractions[k]);
+  }
+  EXPECT_EQ(j["steady_rounds"].get<std::size_t>(), steady.size());
+  std::vector<double> pool = steady.empty() ? fractions : steady;
+  std::sort(pool.begin(), pool.end());
+  const double median =
+      pool.size() % 2 ? pool[pool.size() / 2] : 0.5 * (pool[pool.size() / 2 - 1] + pool[pool.size() / 2]);
+  EXPECT_DOUBLE_EQ(j["roofline_fraction"].get<double>(), median);
+}
+
+}  // namespace
