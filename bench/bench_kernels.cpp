@@ -115,4 +115,88 @@ void BM_InplaceStreams(benchmark::State& state) {
 }
 BENCHMARK(BM_InplaceStreams)->ArgsProduct({{1, 19}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The memory side of a candidate layout for the AA kernel (issue 3, docs/lbm.md): AoSoA, each row
+// of x stored as blocks of 8 cells x 19 populations (1216 bytes, whole cache lines), rows after
+// one another. Each block's 19 population vectors are read and written back in place, either
+// all in the cell's own row (the even AA step: one sequential stream per thread) or, for the odd
+// step, in the row of the D3Q19 neighbour (y + c_y, z + c_z): 9 rows touched per row. No
+// arithmetic beyond x = 0.5 x + 0.5, so this bounds what the layout could give the kernel;
+// compare with BM_InplaceStreams (19 separate arrays) in the same run. Arguments: 0 even, 1 odd;
+// then 0 for blocks of all 19 populations, 1 for each row split into 9 segments by (c_y, c_z), a
+// segment holding blocks of 8 cells x its 1 or 3 populations, so that the odd step touches one
+// contiguous segment per neighbour row instead of 3 lines in every 19.
+void BM_AosoaStreams(benchmark::State& state) {
+  const bool odd = state.range(0) != 0;
+  const bool grouped = state.range(1) != 0;
+  constexpr int kQ = 19, kLanes = 8, kNx = 256;
+  constexpr std::size_t kHuge = std::size_t{2} << 20, kTotal = std::size_t{1} << 27;  // doubles, 1 GiB
+  constexpr std::size_t kRow = std::size_t{kNx} * kQ;  // doubles per row
+  constexpr int kNy = 64;
+  const int nz = static_cast<int>(kTotal / kRow / kNy);
+  const std::size_t bytes = (kRow * kNy * nz * sizeof(double) + kHuge - 1) / kHuge * kHuge;
+  std::unique_ptr<double, decltype(&std::free)> storage(static_cast<double*>(std::aligned_alloc(kHuge, bytes)),
+                                                        &std::free);
+  double* const base = storage.get();
+  ::madvise(base, bytes, MADV_HUGEPAGE);
+  constexpr int cy[kQ] = {0, 1, -1, 0, 0, 0, 0, 1, -1, 1, -1, 0, 0, 0, 0, 1, -1, 1, -1};
+  constexpr int cz[kQ] = {0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 1, -1, 1, 1, -1, -1};
+  // Offset (doubles) of population q's vector in block b: plain blocks of 19, or by segment.
+  std::size_t segment_start[kQ], segment_width[kQ], rank_in_segment[kQ];
+  {
+    std::size_t start = 0;
+    for (int q = 0; q < kQ; ++q) {
+      int first = -1, width = 0, rank = 0;
+      for (int k = 0; k < kQ; ++k)
+        if (cy[k] == cy[q] && cz[k] == cz[q]) {
+          if (first < 0) first = k;
+          if (k < q) ++rank;
+          ++width;
+        }
+      if (first == q) start += 0;  // segments are laid out in order of their first population
+      rank_in_segment[q] = static_cast<std::size_t>(rank);
+      segment_width[q] = static_cast<std::size_t>(width);
+      segment_start[q] = first;  // temporarily the first population; replaced below
+    }
+    std::size_t offset_of_first[kQ] = {};
+    for (int q = 0; q < kQ; ++q)
+      if (segment_start[q] == static_cast<std::size_t>(q)) {
+        offset_of_first[q] = start;
+        start += segment_width[q] * kNx;
+      }
+    for (int q = 0; q < kQ; ++q) segment_start[q] = offset_of_first[segment_start[q]];
+  }
+  const auto slot = [&](int b, int q) {
+    const std::size_t bq = static_cast<std::size_t>(b);
+    return grouped ? segment_start[q] + (bq * segment_width[q] + rank_in_segment[q]) * kLanes
+                   : (bq * kQ + static_cast<std::size_t>(q)) * kLanes;
+  };
+  const auto row_of = [&](int y, int z) {  // periodic wrap: the kernel's halo plays that part
+    return base + ((static_cast<std::size_t>((z + nz) % nz) * kNy + static_cast<std::size_t>((y + kNy) % kNy)) * kRow);
+  };
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < kNy; ++y) std::fill_n(row_of(y, z), kRow, 1.0);
+  for (auto _ : state) {
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int z = 0; z < nz; ++z) {
+      for (int y = 0; y < kNy; ++y) {
+        double* rows[kQ];
+        for (int q = 0; q < kQ; ++q) rows[q] = odd ? row_of(y + cy[q], z + cz[q]) : row_of(y, z);
+        for (int b = 0; b < kNx / kLanes; ++b) {
+          for (int q = 0; q < kQ; ++q) {
+            double* __restrict v = rows[q] + slot(b, q);
+#pragma GCC unroll 8
+            for (int l = 0; l < kLanes; ++l) v[l] = 0.5 * v[l] + 0.5;
+          }
+        }
+      }
+    }
+    benchmark::ClobberMemory();
+  }
+  state.counters["bytes_per_s"] = benchmark::Counter(2.0 * static_cast<double>(kRow * kNy * nz * sizeof(double)),
+                                                     benchmark::Counter::kIsIterationInvariantRate,
+                                                     benchmark::Counter::kIs1000);
+}
+BENCHMARK(BM_AosoaStreams)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
 }  // namespace
