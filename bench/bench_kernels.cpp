@@ -140,30 +140,26 @@ void BM_AosoaStreams(benchmark::State& state) {
   ::madvise(base, bytes, MADV_HUGEPAGE);
   constexpr int cy[kQ] = {0, 1, -1, 0, 0, 0, 0, 1, -1, 1, -1, 0, 0, 0, 0, 1, -1, 1, -1};
   constexpr int cz[kQ] = {0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 1, -1, 1, 1, -1, -1};
-  // Offset (doubles) of population q's vector in block b: plain blocks of 19, or by segment.
+  // Offset (doubles) of population q's vector in block b: plain blocks of 19, or by segment. A
+  // segment is the populations sharing (c_y, c_z), laid out in the order of their first member.
   std::size_t segment_start[kQ], segment_width[kQ], rank_in_segment[kQ];
-  {
-    std::size_t start = 0;
-    for (int q = 0; q < kQ; ++q) {
-      int first = -1, width = 0, rank = 0;
-      for (int k = 0; k < kQ; ++k)
-        if (cy[k] == cy[q] && cz[k] == cz[q]) {
-          if (first < 0) first = k;
-          if (k < q) ++rank;
-          ++width;
-        }
-      if (first == q) start += 0;  // segments are laid out in order of their first population
-      rank_in_segment[q] = static_cast<std::size_t>(rank);
-      segment_width[q] = static_cast<std::size_t>(width);
-      segment_start[q] = first;  // temporarily the first population; replaced below
+  std::size_t next_start = 0;
+  for (int q = 0; q < kQ; ++q) {
+    int first = -1, width = 0, rank = 0;
+    for (int k = 0; k < kQ; ++k) {
+      if (cy[k] != cy[q] || cz[k] != cz[q]) continue;
+      if (first < 0) first = k;
+      if (k < q) ++rank;
+      ++width;
     }
-    std::size_t offset_of_first[kQ] = {};
-    for (int q = 0; q < kQ; ++q)
-      if (segment_start[q] == static_cast<std::size_t>(q)) {
-        offset_of_first[q] = start;
-        start += segment_width[q] * kNx;
-      }
-    for (int q = 0; q < kQ; ++q) segment_start[q] = offset_of_first[segment_start[q]];
+    segment_width[q] = static_cast<std::size_t>(width);
+    rank_in_segment[q] = static_cast<std::size_t>(rank);
+    if (first == q) {
+      segment_start[q] = next_start;
+      next_start += segment_width[q] * kNx;
+    } else {
+      segment_start[q] = segment_start[first];
+    }
   }
   const auto slot = [&](int b, int q) {
     const std::size_t bq = static_cast<std::size_t>(b);
