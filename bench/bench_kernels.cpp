@@ -140,32 +140,33 @@ void BM_AosoaStreams(benchmark::State& state) {
   ::madvise(base, bytes, MADV_HUGEPAGE);
   constexpr int cy[kQ] = {0, 1, -1, 0, 0, 0, 0, 1, -1, 1, -1, 0, 0, 0, 0, 1, -1, 1, -1};
   constexpr int cz[kQ] = {0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 1, -1, 1, 1, -1, -1};
-  // Offset (doubles) of population q's vector in block b: plain blocks of 19, or by segment. A
-  // segment is the populations sharing (c_y, c_z), laid out in the order of their first member.
-  std::size_t segment_start[kQ], segment_width[kQ], rank_in_segment[kQ];
-  std::size_t next_start = 0;
+  // Population q's vector of block b sits at first[q] + b * stride[q] doubles in its row: plain
+  // blocks of 19, or by segment (the populations sharing (c_y, c_z), laid out in the order of
+  // their first member, each segment holding blocks of its own width).
+  std::size_t first[kQ], stride[kQ];
+  std::size_t next_segment = 0;
   for (int q = 0; q < kQ; ++q) {
-    int first = -1, width = 0, rank = 0;
+    if (!grouped) {
+      first[q] = static_cast<std::size_t>(q) * kLanes;
+      stride[q] = std::size_t{kQ} * kLanes;
+      continue;
+    }
+    int leader = -1, width = 0, rank = 0;
     for (int k = 0; k < kQ; ++k) {
       if (cy[k] != cy[q] || cz[k] != cz[q]) continue;
-      if (first < 0) first = k;
+      if (leader < 0) leader = k;
       if (k < q) ++rank;
       ++width;
     }
-    segment_width[q] = static_cast<std::size_t>(width);
-    rank_in_segment[q] = static_cast<std::size_t>(rank);
-    if (first == q) {
-      segment_start[q] = next_start;
-      next_start += segment_width[q] * kNx;
+    stride[q] = static_cast<std::size_t>(width) * kLanes;
+    // The leader (rank 0) opens the segment; the others sit after it at their rank.
+    if (leader == q) {
+      first[q] = next_segment;
+      next_segment += stride[q] * (kNx / kLanes);
     } else {
-      segment_start[q] = segment_start[first];
+      first[q] = first[leader] + static_cast<std::size_t>(rank) * kLanes;
     }
   }
-  const auto slot = [&](int b, int q) {
-    const std::size_t bq = static_cast<std::size_t>(b);
-    return grouped ? segment_start[q] + (bq * segment_width[q] + rank_in_segment[q]) * kLanes
-                   : (bq * kQ + static_cast<std::size_t>(q)) * kLanes;
-  };
   const auto row_of = [&](int y, int z) {  // periodic wrap: the kernel's halo plays that part
     return base + ((static_cast<std::size_t>((z + nz) % nz) * kNy + static_cast<std::size_t>((y + kNy) % kNy)) * kRow);
   };
@@ -180,7 +181,7 @@ void BM_AosoaStreams(benchmark::State& state) {
         for (int q = 0; q < kQ; ++q) rows[q] = odd ? row_of(y + cy[q], z + cz[q]) : row_of(y, z);
         for (int b = 0; b < kNx / kLanes; ++b) {
           for (int q = 0; q < kQ; ++q) {
-            double* __restrict v = rows[q] + slot(b, q);
+            double* __restrict v = rows[q] + first[q] + static_cast<std::size_t>(b) * stride[q];
 #pragma GCC unroll 8
             for (int l = 0; l < kLanes; ++l) v[l] = 0.5 * v[l] + 0.5;
           }

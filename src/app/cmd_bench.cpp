@@ -100,19 +100,19 @@ nlohmann::json run_bench(const BenchOptions& o) {
   };
   const double cells = static_cast<double>(solver->cell_count());
   const double bytes = static_cast<double>(solver->bytes_per_cell_update());
-  std::vector<double> round_seconds, round_bandwidth{probe()}, round_fraction, steady_fraction;
+  std::vector<double> round_seconds, round_mlups, round_bandwidth{probe()}, round_fraction, steady_fraction;
   for (int round = 0; round < o.rounds; ++round) {
     const double start = omp_get_wtime();
     solver->run(steps);
     round_seconds.push_back(omp_get_wtime() - start);
     round_bandwidth.push_back(probe());
-    const double round_mlups = cells * steps / round_seconds.back() * 1e-6;
+    round_mlups.push_back(cells * steps / round_seconds.back() * 1e-6);
     const double bracket_gbs = 0.5 * (round_bandwidth[round] + round_bandwidth[round + 1]);
-    round_fraction.push_back(round_mlups * 1e6 * bytes * 1e-9 / bracket_gbs);
+    round_fraction.push_back(round_mlups.back() * 1e6 * bytes * 1e-9 / bracket_gbs);
     if (std::abs(round_bandwidth[round + 1] - round_bandwidth[round]) <= 0.1 * bracket_gbs)
       steady_fraction.push_back(round_fraction.back());
     fmt::print(stderr, "  round {}: {:.1f} MLUPS, probes {:.1f} / {:.1f} GB/s, fraction {:.3f}\n", round + 1,
-               round_mlups, round_bandwidth[round], round_bandwidth[round + 1], round_fraction.back());
+               round_mlups.back(), round_bandwidth[round], round_bandwidth[round + 1], round_fraction.back());
   }
   const double seconds = median(round_seconds);
   const double bandwidth_gbs = median(round_bandwidth);
@@ -137,8 +137,6 @@ nlohmann::json run_bench(const BenchOptions& o) {
   j["bandwidth_probe"] = {{"kind", "in-place read-modify-write x = a x + b, best of 3 sweeps per probe"},
                           {"array_bytes", o.probe_gib * 1073741824.0},
                           {"bandwidth_gbs_before_and_after_rounds", round_bandwidth}};
-  std::vector<double> round_mlups;
-  for (double t : round_seconds) round_mlups.push_back(cells * steps / t * 1e-6);
   j["mlups_per_round"] = round_mlups;
   j["roofline_fraction_per_round"] = round_fraction;
   // Median of the bracketed per-round fractions (see above), not achieved_gbs / bandwidth_gbs.
