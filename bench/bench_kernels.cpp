@@ -113,7 +113,7 @@ void BM_InplaceStreams(benchmark::State& state) {
                                                      benchmark::Counter::kIsIterationInvariantRate,
                                                      benchmark::Counter::kIs1000);
 }
-BENCHMARK(BM_InplaceStreams)->ArgsProduct({{1, 19}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_InplaceStreams)->ArgsProduct({{1, 4, 10, 11, 19, 22}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The memory side of a candidate layout for the AA kernel (issue 3, docs/lbm.md): AoSoA, each row
 // of x stored as blocks of 8 cells x 19 populations (1216 bytes, whole cache lines), rows after

@@ -507,9 +507,11 @@ ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {
     for (int z = 0; z < config_.nz; ++z)
       for (int y = 0; y < config_.ny; ++y) starts.push_back(layout_.index(0, y, z));
   } else if (axis == 1) {
-    for (int z = 0; z < config_.nz; ++z) starts.push_back(layout_.index(0, 0, z) - layout_.x_begin);
+    // A row's sx elements counted from its ghost x = -1 hold the whole row, both ghosts included
+    // (grid.hpp: sx >= nx + 2); counted from the line start they would not when nx + 2 < sx + x_begin.
+    for (int z = 0; z < config_.nz; ++z) starts.push_back(layout_.index(-1, 0, z));
   } else {
-    starts.push_back(layout_.index(0, 0, 0) - layout_.x_begin - layout_.sx);
+    starts.push_back(layout_.index(-1, -1, 0));
   }
   const std::size_t moved = layer * static_cast<std::size_t>(n_axis - 1);
   Real* const data = populations_.data();

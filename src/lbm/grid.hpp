@@ -6,7 +6,8 @@
 // q * pop_stride + cell. Within an array, cell (x, y, z) with x in [-1, nx], y in [-1, ny],
 // z in [-1, nz] is at x_begin + x + sx (y + 1) + sxy (z + 1):
 //  - x_begin and sx are multiples of one 64-byte line, so every interior row starts on a
-//    cache-line (and AVX-512 vector) boundary;
+//    cache-line (and AVX-512 vector) boundary; sx is nx + 2 rounded up to a line, the ghost
+//    x = nx of a row sharing its line with the ghost x = -1 of the next;
 //  - pop_stride is a whole number of 4 KiB pages plus `4096 / Q` rounded down to 64 bytes,
 //    so the Q arrays start at Q different offsets modulo 4 KiB. Without this, the 2Q
 //    streams of the kernel alias in the L1 cache sets and the store buffer (4K aliasing).

@@ -41,4 +41,20 @@ TEST(BenchCli, EachRoundsFractionIsItsThroughputOverTheMeanOfTheProbesAroundIt) 
   EXPECT_DOUBLE_EQ(j["roofline_fraction"].get<double>(), median);
 }
 
+
+// The even and odd AA steps are timed apart inside each round, so with one round the round's
+// time is at least the sum of the two parities' times: its MLUPS cannot exceed their harmonic
+// mean (equal numbers of steps of each parity). The margin is rounding only.
+TEST(BenchCli, EvenAndOddStepThroughputsAccountForTheRound) {
+  const auto r = settle::test::run_settle(
+      "bench", "--size 12 --steps 4 --rounds 1 --probe-gib 0.0625 --threads 1 --precision float");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const double even = j["even_step_mlups"].get<double>(), odd = j["odd_step_mlups"].get<double>();
+  ASSERT_GT(even, 0.0);
+  ASSERT_GT(odd, 0.0);
+  const double round = j["mlups_per_round"].get<std::vector<double>>().at(0);
+  EXPECT_LE(round, 2.0 / (1.0 / even + 1.0 / odd) * (1.0 + 1e-12));
+}
+
 }  // namespace
