@@ -41,7 +41,6 @@ TEST(BenchCli, EachRoundsFractionIsItsThroughputOverTheMeanOfTheProbesAroundIt) 
   EXPECT_DOUBLE_EQ(j["roofline_fraction"].get<double>(), median);
 }
 
-
 // The even and odd AA steps are timed apart inside each round, so with one round the round's
 // time is at least the sum of the two parities' times: its MLUPS cannot exceed their harmonic
 // mean (equal numbers of steps of each parity). The margin is rounding only.
