@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -74,6 +75,25 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+struct RoundTimes {
+  double seconds = 0.0;                    ///< the whole round
+  std::array<double, 2> parity_seconds{};  ///< its even and its odd AA steps
+};
+
+// `steps` kernel steps, each timed and booked to its AA parity as well.
+RoundTimes time_round(lbm::Solver& solver, int steps) {
+  RoundTimes t;
+  const double start = omp_get_wtime();
+  for (int s = 0; s < steps; ++s) {
+    const auto parity = static_cast<std::size_t>(solver.step_count() & 1);
+    const double step_start = omp_get_wtime();
+    solver.step();
+    t.parity_seconds[parity] += omp_get_wtime() - step_start;
+  }
+  t.seconds = omp_get_wtime() - start;
+  return t;
+}
+
 nlohmann::json run_bench(const BenchOptions& o) {
   check(o);
   if (o.threads > 0) omp_set_num_threads(o.threads);
@@ -106,16 +126,9 @@ nlohmann::json run_bench(const BenchOptions& o) {
   // the neighbour access pattern.
   std::vector<double> parity_mlups[2];
   for (int round = 0; round < o.rounds; ++round) {
-    double parity_seconds[2] = {0.0, 0.0};
-    const double start = omp_get_wtime();
-    for (int s = 0; s < steps; ++s) {
-      const auto parity = static_cast<std::size_t>(solver->step_count() & 1);
-      const double step_start = omp_get_wtime();
-      solver->step();
-      parity_seconds[parity] += omp_get_wtime() - step_start;
-    }
-    round_seconds.push_back(omp_get_wtime() - start);
-    for (std::size_t p = 0; p < 2; ++p) parity_mlups[p].push_back(cells * (steps / 2) / parity_seconds[p] * 1e-6);
+    const RoundTimes times = time_round(*solver, steps);
+    round_seconds.push_back(times.seconds);
+    for (std::size_t p = 0; p < 2; ++p) parity_mlups[p].push_back(cells * (steps / 2) / times.parity_seconds[p] * 1e-6);
     round_bandwidth.push_back(probe());
     round_mlups.push_back(cells * steps / round_seconds.back() * 1e-6);
     const double bracket_gbs = 0.5 * (round_bandwidth[round] + round_bandwidth[round + 1]);
