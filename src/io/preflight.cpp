@@ -230,6 +230,17 @@ void check_markers(double markers, double dx_si) {
         markers, dx_si, kMaxMarkers));
 }
 
+// Interior markers (numerics.interior_markers) fill the body from (retraction + 1) cells below the
+// surface, one per cell of volume. Their count is estimated without building them: the inner body's
+// volume as V (1 - depth A / (3 V))^3, exact for a sphere (A / 3V = 1 / R) and an approximation for
+// other shapes, which is all a memory estimate needs.
+double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_si) {
+  if (!s.interior_markers) return 0.0;
+  const double volume = s.shape->volume(), depth_si = (s.marker_retraction_cells + 1.0) * dx_si;
+  const double shrink = std::max(0.0, 1.0 - depth_si * s.shape->surface_area() / (3.0 * volume));
+  return volume * shrink * shrink * shrink / (dx_si * dx_si * dx_si);
+}
+
 double checked_steps(const coupling::SimulationSetup& s, double dt_si) {
   const double steps = std::ceil(s.end_time_si / dt_si);
   if (!(steps <= kMaxSteps))
@@ -475,6 +486,7 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   check_contact_start(s, r.dx_si, r.dt_si, grid.cells);
   r.markers = s.shape->surface_area() / (r.dx_si * r.dx_si);
   check_markers(r.markers, r.dx_si);
+  r.markers += estimated_interior_markers(s, r.dx_si);
   r.steps = checked_steps(s, r.dt_si);
 
   MemoryInputs memory;

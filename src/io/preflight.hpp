@@ -56,7 +56,7 @@ struct MemoryEstimate {
   double force_bytes = 0.0;           ///< 3 per-cell force arrays of the storage type
   double flag_bytes = 0.0;            ///< one forced-cell flag byte per cell
   double boundary_links_bytes = 0.0;  ///< the AA copy lists: two 16-byte entries per boundary link
-  double body_bytes = 0.0;            ///< the box of cells around the body and the surface markers
+  double body_bytes = 0.0;            ///< the box of cells around the body and its markers
   double output_bytes = 0.0;          ///< samples kept for the summary; a fixed body's velocity field
   double total_bytes() const;
 };
@@ -67,7 +67,7 @@ struct MemoryInputs {
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::Precision precision = lbm::Precision::float64;
   double body_box_cells = 0.0;  ///< cells of the box around the body (radius + stencil)
-  double markers = 0.0;         ///< surface markers
+  double markers = 0.0;         ///< surface and interior markers
   double samples = 0.0;         ///< timeseries rows the run keeps in memory
   bool velocity_field_per_sample = false;  ///< fixed bodies sample the superficial velocity
 };
@@ -139,7 +139,7 @@ struct PreflightReport {
   std::array<int, 3> cells{};
   double cell_count = 0.0;
   double steps = 0.0;
-  double markers = 0.0;  ///< estimated: surface area / dx^2
+  double markers = 0.0;  ///< estimated: surface area / dx^2, plus the interior lattice if any
   MemoryEstimate memory;
   std::optional<double> memory_budget_bytes;  ///< nullopt: unknown (no /proc/meminfo)
   std::string memory_budget_source;

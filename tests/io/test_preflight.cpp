@@ -312,6 +312,22 @@ TEST(Preflight, ReportsTheGridAndStepTheSimulationUses) {
   EXPECT_TRUE(contains(r.summary(), "grid 32x32x48")) << r.summary();
 }
 
+TEST(Preflight, CountsInteriorMarkersInTheEstimate) {
+  coupling::SimulationSetup s = small_setup();
+  s.cells_per_diameter = 16.0;
+  s.interior_markers = true;
+  s.marker_retraction_cells = coupling::calibrated_marker_retraction_cells(true);
+  const PreflightReport r = preflight(s);
+  const coupling::Simulation sim(s);
+  // Surface (about area / dx^2) plus the interior lattice, whose inner-sphere volume estimate is
+  // exact for a sphere; what is left is the lattice's count of points in a sphere of 6.5 cells
+  // radius (a few percent) and the surface count's 10% of the test above.
+  const double built = static_cast<double>(sim.derived().marker_count);
+  EXPECT_NEAR(r.markers / built, 1.0, 0.1) << r.markers << " estimated, " << built << " built";
+  s.interior_markers = false;
+  EXPECT_GT(r.markers, 1.8 * preflight(s).markers);  // the interior roughly doubles them here
+}
+
 TEST(Preflight, NonFiniteNumbersInACodeBuiltSetupAreNamed) {
   coupling::SimulationSetup s = small_setup();
   s.gravity_si.z() = std::nan("");
