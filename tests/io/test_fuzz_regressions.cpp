@@ -30,7 +30,9 @@ void expect_resolved_case_reads_back(const CaseValues& values) {
   ASSERT_NO_THROW(back = parse_case(values.schema(), resolved, "resolved")) << resolved;
   for (const KeySpec& k : values.schema().keys()) {
     ASSERT_EQ(values.has(k.path), back.has(k.path)) << k.path;
-    if (values.has(k.path)) EXPECT_EQ(values.value(k.path), back.value(k.path)) << k.path << "\n" << resolved;
+    if (values.has(k.path)) {
+      EXPECT_EQ(values.value(k.path), back.value(k.path)) << k.path << "\n" << resolved;
+    }
   }
 }
 
