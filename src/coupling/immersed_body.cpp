@@ -44,9 +44,7 @@ BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double ret
     // area in cells^2 times one cell width
     markers.volume.push_back(surface.areas[l] / (dx_si * dx_si) * area_scale);
   }
-  // One cell below the surface markers: nearer, the sheet's and the lattice's kernels would
-  // overlap so much that a Jacobi sweep overshoots.
-  if (interior) add_interior_markers(shape, dx_si, retraction_cells + 1.0, markers);
+  if (interior) add_interior_markers(shape, dx_si, interior_lattice_depth_cells(retraction_cells), markers);
   return markers;
 }
 

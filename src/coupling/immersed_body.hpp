@@ -65,6 +65,11 @@ BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double ret
 /// the diffuse body by about a tenth of a cell more (docs/coupling.md, Interior markers).
 constexpr double calibrated_marker_retraction_cells(bool interior) { return interior ? 0.5 : 0.4; }
 
+/// Depth (cells below the surface) from which the interior lattice fills the body: one cell below
+/// the retracted surface markers; nearer, the sheet's and the lattice's kernels would overlap so
+/// much that a Jacobi sweep overshoots. Shared with the preflight's marker estimate.
+constexpr double interior_lattice_depth_cells(double retraction_cells) { return retraction_cells + 1.0; }
+
 /// Markers at a pose (lattice units): X_l = X_c + C_b^n p_l, target velocity v + omega_n x (X_l - X_c).
 ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,
                            const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity_n);

@@ -13,6 +13,7 @@
 
 #include <fmt/core.h>
 
+#include "coupling/immersed_body.hpp"
 #include "coupling/runner.hpp"
 #include "body/contact.hpp"
 #include "common/error.hpp"
@@ -230,13 +231,13 @@ void check_markers(double markers, double dx_si) {
         markers, dx_si, kMaxMarkers));
 }
 
-// Interior markers (numerics.interior_markers) fill the body from (retraction + 1) cells below the
-// surface, one per cell of volume. Their count is estimated without building them: the inner body's
+// Interior markers (numerics.interior_markers) fill the body from interior_lattice_depth_cells below
+// the surface, one per cell of volume. Their count is estimated without building them: the inner body's
 // volume as V (1 - depth A / (3 V))^3, exact for a sphere (A / 3V = 1 / R) and an approximation for
 // other shapes, which is all a memory estimate needs.
 double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_si) {
   if (!s.interior_markers) return 0.0;
-  const double volume = s.shape->volume(), depth_si = (s.marker_retraction_cells + 1.0) * dx_si;
+  const double volume = s.shape->volume(), depth_si = coupling::interior_lattice_depth_cells(s.marker_retraction_cells) * dx_si;
   const double shrink = std::max(0.0, 1.0 - depth_si * s.shape->surface_area() / (3.0 * volume));
   return volume * shrink * shrink * shrink / (dx_si * dx_si * dx_si);
 }
