@@ -1,6 +1,7 @@
 #include "coupling/health.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <fmt/core.h>
@@ -13,12 +14,55 @@ bool body_finite(const Simulation& sim) {
   return s.position_si.allFinite() && s.velocity_si.allFinite() && s.angular_velocity_b_si.allFinite();
 }
 
-void measure_fluid(const lbm::Solver& fluid, HealthReport& r) {
+lbm::FieldExtrema measure_fluid(const lbm::Solver& fluid, HealthReport& r) {
   const lbm::FieldExtrema e = fluid.extrema();
   r.finite = r.finite && e.finite;
   r.min_density = e.min_density;
   r.max_density = e.max_density;
   r.max_lattice_speed = e.max_speed;
+  return e;
+}
+
+bool inside_body(const Simulation& sim, const std::array<int, 3>& cell) {
+  const Eigen::Vector3d cell_si = sim.frame().to_si(Eigen::Vector3d(cell[0], cell[1], cell[2]));
+  return sim.setup().shape->contains(sim.body().body_to_inertial().transpose() *
+                                     (cell_si - sim.body().state().position_si));
+}
+
+/// Where a cell lies, in the words a user can act on: its offset from the particle's centre in
+/// equivalent diameters (inertial axes), whether it is inside the body, and its distance to the
+/// nearest face of the grid.
+std::string describe_place(const Simulation& sim, const std::array<int, 3>& cell) {
+  const Eigen::Vector3d cell_si = sim.frame().to_si(Eigen::Vector3d(cell[0], cell[1], cell[2]));
+  const Eigen::Vector3d offset_d =
+      (cell_si - sim.body().state().position_si) / sim.derived().equivalent_diameter_si;
+  const std::array<int, 3>& n = sim.derived().cells;
+  int face_cells = n[0];
+  for (int a = 0; a < 3; ++a) face_cells = std::min({face_cells, cell[a], n[a] - 1 - cell[a]});
+  return fmt::format("at cell ({}, {}, {}) of {}x{}x{}, ({:.2f}, {:.2f}, {:.2f}) diameters from the particle's centre{}, "
+                     "{} cells from the nearest face of the grid",
+                     cell[0], cell[1], cell[2], n[0], n[1], n[2], offset_d.x(), offset_d.y(), offset_d.z(),
+                     inside_body(sim, cell) ? " (inside the particle)" : "", face_cells);
+}
+
+/// Why the density left its range: the pressure held inside a body with interior markers, the
+/// viscous pressure of a thin gap at large tau, or the flow's own speed.
+std::string density_cause(const Simulation& sim, const std::array<int, 3>& cell) {
+  // The lattice pressure is c_s^2 (rho - 1). Its inertial part scales with u^2, its viscous part
+  // with (tau - 0.5) u / L: in a thin gap (a particle nearing a wall, L the gap) the viscous part
+  // dominates at large tau, and lowering dt (numerics.max_tau) shrinks it as dt^2.
+  const double tau = sim.derived().tau;
+  if (sim.setup().interior_markers && inside_body(sim, cell))
+    return "the pressure in the fluid that numerics.interior_markers holds rigid inside the particle: steady, about "
+           "20 x rho U^2 / 2 (docs/coupling.md, \"Pressure inside a body with interior markers\"), a density "
+           "deviation of 0.06-0.10 at lattice velocity 0.05, falling roughly as its square; lower "
+           "numerics.max_lattice_velocity (0.035 about halves it) or set numerics.interior_markers = false";
+  if (tau > 1.0)
+    return fmt::format("the viscous pressure of a thin gap (a particle nearing a wall) at tau = {:.3g}, which grows "
+                       "with (tau - 0.5) x lattice velocity; lower numerics.max_tau (a smaller dt), e.g. to 1.0, or "
+                       "numerics.max_lattice_velocity",
+                       tau);
+  return "too large a lattice velocity or an impulsive start; lower numerics.max_lattice_velocity";
 }
 
 }  // namespace
@@ -26,7 +70,7 @@ void measure_fluid(const lbm::Solver& fluid, HealthReport& r) {
 HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
   HealthReport r;
   r.finite = body_finite(sim);
-  measure_fluid(sim.fluid(), r);
+  const lbm::FieldExtrema e = measure_fluid(sim.fluid(), r);
   const double design_speed = sim.setup().max_lattice_velocity;
   if (!r.finite) {
     r.problem = fmt::format(
@@ -36,27 +80,19 @@ HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
         body_finite(sim) ? "fluid" : "particle state", sim.derived().tau);
   } else if (r.max_lattice_speed > limits.max_lattice_speed) {
     r.problem = fmt::format(
-        "largest fluid speed {:.3f} in lattice units (Mach {:.2f}) exceeds {:.2f}; dt was chosen for {:.3f}. Likely "
-        "cause: the particle falls faster than the terminal-velocity estimate ({:.4g} m/s); lower "
+        "largest fluid speed {:.3f} in lattice units (Mach {:.2f}) exceeds {:.2f}; dt was chosen for {:.3f}; {}. "
+        "Likely cause: the particle falls faster than the terminal-velocity estimate ({:.4g} m/s); lower "
         "numerics.max_lattice_velocity",
         r.max_lattice_speed, r.max_lattice_speed * std::sqrt(3.0), limits.max_lattice_speed, design_speed,
-        sim.derived().expected_speed_si);
+        describe_place(sim, e.max_speed_cell), sim.derived().expected_speed_si);
   } else if (std::max(r.max_density - 1.0, 1.0 - r.min_density) > limits.max_density_deviation) {
-    // The lattice pressure is c_s^2 (rho - 1). Its inertial part scales with u^2, its viscous part
-    // with (tau - 0.5) u / L: in a thin gap (a particle nearing a wall, L the gap) the viscous part
-    // dominates at large tau, and lowering dt (numerics.max_tau) shrinks it as dt^2.
-    const double tau = sim.derived().tau;
-    const std::string cause =
-        tau > 1.0 ? fmt::format("the viscous pressure of a thin gap (a particle nearing a wall) at tau = {:.3g}, which "
-                                "grows with (tau - 0.5) x lattice velocity; lower numerics.max_tau (a smaller dt), e.g. "
-                                "to 1.0, or numerics.max_lattice_velocity",
-                                tau)
-                  : std::string("too large a lattice velocity or an impulsive start; lower "
-                                "numerics.max_lattice_velocity");
+    const bool high = r.max_density - 1.0 >= 1.0 - r.min_density;
     r.problem = fmt::format(
         "fluid density ranges over [{:.3f}, {:.3f}] (lattice units), beyond 1 +- {:.2f}: pressure too strong for the "
-        "incompressible limit. Likely cause: {}",
-        r.min_density, r.max_density, limits.max_density_deviation, cause);
+        "incompressible limit; the {} {}. Likely cause: {}",
+        r.min_density, r.max_density, limits.max_density_deviation, high ? "largest" : "smallest",
+        describe_place(sim, high ? e.max_density_cell : e.min_density_cell),
+        density_cause(sim, high ? e.max_density_cell : e.min_density_cell));
   }
   return r;
 }

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <new>
 #include <stdexcept>
@@ -175,12 +176,16 @@ class AaSolver final : public Solver {
 
   FieldExtrema extrema() const override {
     const int nx = config_.nx, ny = config_.ny, nz = config_.nz;
-    double min_rho = 1.0, max_rho = 1.0, max_u2 = 0.0;
-    bool finite = true;
-#pragma omp parallel for collapse(2) schedule(static) if (threaded_) \
-    reduction(min : min_rho) reduction(max : max_rho, max_u2) reduction(&& : finite)
+    // One partial result per row, reduced in row order afterwards: the same answer, locations
+    // included, for every thread count (an OpenMP min/max reduction keeps no location).
+    std::vector<FieldExtrema> rows(static_cast<std::size_t>(ny) * nz);
+#pragma omp parallel for collapse(2) schedule(static) if (threaded_)
     for (int z = 0; z < nz; ++z) {
       for (int y = 0; y < ny; ++y) {
+        FieldExtrema& row = rows[static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * z];
+        row.min_density = std::numeric_limits<double>::infinity();
+        row.max_density = -std::numeric_limits<double>::infinity();
+        double max_u2 = -1.0;
         for (int x = 0; x < nx; ++x) {
           double g[Q];
           gather_shifted({x, y, z}, g);
@@ -188,14 +193,30 @@ class AaSolver final : public Solver {
           const Macroscopic<L> m = macroscopic<L>(g, F);
           const double u2 = m.ux * m.ux + m.uy * m.uy + m.uz * m.uz;
           // A NaN fails every comparison: test finiteness explicitly.
-          finite = finite && std::isfinite(m.rho) && std::isfinite(u2);
-          min_rho = std::min(min_rho, m.rho);
-          max_rho = std::max(max_rho, m.rho);
-          max_u2 = std::max(max_u2, u2);
+          row.finite = row.finite && std::isfinite(m.rho) && std::isfinite(u2);
+          if (m.rho < row.min_density) row.min_density = m.rho, row.min_density_cell = {x, y, z};
+          if (m.rho > row.max_density) row.max_density = m.rho, row.max_density_cell = {x, y, z};
+          if (u2 > max_u2) max_u2 = u2, row.max_speed_cell = {x, y, z};
         }
+        row.max_speed = max_u2;  // squared until the reduction
       }
     }
-    return {min_rho, max_rho, std::sqrt(max_u2), finite};
+    return reduce_rows(rows);
+  }
+
+  /// Row-ordered reduction of extrema(); starts from the rest state (density 1, speed 0) as the
+  /// single-pass version did, so an all-rest field reports its first cell.
+  static FieldExtrema reduce_rows(const std::vector<FieldExtrema>& rows) {
+    FieldExtrema e;
+    double max_u2 = 0.0;
+    for (const FieldExtrema& row : rows) {
+      e.finite = e.finite && row.finite;
+      if (row.min_density < e.min_density) e.min_density = row.min_density, e.min_density_cell = row.min_density_cell;
+      if (row.max_density > e.max_density) e.max_density = row.max_density, e.max_density_cell = row.max_density_cell;
+      if (row.max_speed > max_u2) max_u2 = row.max_speed, e.max_speed_cell = row.max_speed_cell;
+    }
+    e.max_speed = std::sqrt(max_u2);
+    return e;
   }
 
   void add_force(int x, int y, int z, const Eigen::Vector3d& force) override {

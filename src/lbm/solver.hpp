@@ -8,6 +8,7 @@
 // 0 and nx. The linear cell index used by every field returned here and by the force array
 // is  x + nx * (y + ny * z)  (x fastest).
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -31,6 +32,9 @@ struct FieldExtrema {
   double max_density = 1.0;
   double max_speed = 0.0;  ///< largest |u| (with Guo's half-force correction)
   bool finite = true;      ///< no NaN or infinity in any density or velocity
+  /// Interior cells (x, y, z) where each extreme sits (the first in x, y, z order on ties), so a
+  /// failing health check can say where the fluid went wrong, not only how far.
+  std::array<int, 3> min_density_cell{}, max_density_cell{}, max_speed_cell{};
 };
 
 /// Density and velocity of one cell (velocity includes Guo's half-force correction).

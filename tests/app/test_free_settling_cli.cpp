@@ -73,8 +73,9 @@ std::vector<Row> read_rows(const fs::path& csv_path) {
 
 TEST(FreeSettling, SphereReachesTheStandardDragCurveAndStaysSymmetric) {
   const fs::path dir = scratch("free_sphere");
-  const auto r = settle::test::run_settle("run", write_case("free_sphere", kSphereCase).string() + " -o " +
-                                                     dir.string() + " --threads 2 --quiet");
+  const fs::path case_path = write_case("free_sphere", kSphereCase);
+  const auto r = settle::test::run_settle("run", case_path.string() + " -o " + dir.string() + " --threads 2 --quiet");
+  fs::remove(case_path);
   ASSERT_EQ(r.status, 0) << r.err;
   const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
   ASSERT_EQ(summary["stop_reason"], "terminal_state");

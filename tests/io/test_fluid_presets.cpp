@@ -192,10 +192,12 @@ fs::path write_case(const std::string& name, const std::string& text) {
 }
 
 CaseValues load_text(const std::string& name, const std::string& text, const std::vector<std::string>& sets = {}) {
-  const fs::path path = write_case(name, text);
-  CaseValues values = load_case(path, sets);
-  fs::remove(path);
-  return values;
+  // Removed also when load_case throws (the refusal tests below).
+  struct RemoveOnExit {
+    fs::path path;
+    ~RemoveOnExit() { fs::remove(path); }
+  } const file{write_case(name, text)};
+  return load_case(file.path, sets);
 }
 
 // The InputError message of loading `text` with `sets`, or "" when it loads.

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -198,6 +199,14 @@ TEST(LbmFields, ExtremaAreThoseOfTheFullFields) {
     EXPECT_DOUBLE_EQ(e.max_speed, max_speed);  // sqrt of the largest square vs the largest hypot
     EXPECT_TRUE(e.finite);
     EXPECT_NE(e.min_density, e.max_density);  // a non-trivial field
+    // The cells named are where the extremes are (first in storage order; linear index x + nx (y + ny z)).
+    const auto linear = [&](const std::array<int, 3>& c) {
+      return static_cast<std::size_t>(c[0] + solver->nx() * (c[1] + solver->ny() * c[2]));
+    };
+    EXPECT_EQ(linear(e.min_density_cell), static_cast<std::size_t>(std::min_element(rho.begin(), rho.end()) - rho.begin()));
+    EXPECT_EQ(linear(e.max_density_cell), static_cast<std::size_t>(std::max_element(rho.begin(), rho.end()) - rho.begin()));
+    EXPECT_DOUBLE_EQ(std::hypot(u.x[linear(e.max_speed_cell)], u.y[linear(e.max_speed_cell)], u.z[linear(e.max_speed_cell)]),
+                     max_speed);
   }
 }
 
