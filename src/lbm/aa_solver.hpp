@@ -198,7 +198,7 @@ class AaSolver final : public Solver {
           if (m.rho > row.max_density) row.max_density = m.rho, row.max_density_cell = {x, y, z};
           if (u2 > max_u2) max_u2 = u2, row.max_speed_cell = {x, y, z};
         }
-        row.max_speed = max_u2;  // squared until the reduction
+        row.max_speed = std::sqrt(max_u2);
       }
     }
     return reduce_rows(rows);
@@ -208,14 +208,12 @@ class AaSolver final : public Solver {
   /// single-pass version did, so an all-rest field reports its first cell.
   static FieldExtrema reduce_rows(const std::vector<FieldExtrema>& rows) {
     FieldExtrema e;
-    double max_u2 = 0.0;
     for (const FieldExtrema& row : rows) {
       e.finite = e.finite && row.finite;
       if (row.min_density < e.min_density) e.min_density = row.min_density, e.min_density_cell = row.min_density_cell;
       if (row.max_density > e.max_density) e.max_density = row.max_density, e.max_density_cell = row.max_density_cell;
-      if (row.max_speed > max_u2) max_u2 = row.max_speed, e.max_speed_cell = row.max_speed_cell;
+      if (row.max_speed > e.max_speed) e.max_speed = row.max_speed, e.max_speed_cell = row.max_speed_cell;
     }
-    e.max_speed = std::sqrt(max_u2);
     return e;
   }
 
