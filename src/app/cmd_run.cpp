@@ -29,6 +29,7 @@
 #include "app/console.hpp"
 #include "app/summary_fields.hpp"
 #include "common/error.hpp"
+#include "coupling/health.hpp"
 #include "coupling/runner.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/time_control.hpp"
@@ -151,6 +152,12 @@ nlohmann::json summary_json(const coupling::Simulation& sim, const coupling::Run
   j["stop_reason"] = result.stop_reason;
   j["wall_seconds"] = result.wall_seconds;
   j["mlups"] = result.mlups;
+  // How close the run came to the health check's limits (coupling/health.hpp), at the output times.
+  const coupling::HealthLimits limits;
+  j["fluid_health"] = {{"max_density_deviation", result.extremes.density_deviation},
+                       {"density_deviation_limit", limits.max_density_deviation},
+                       {"max_lattice_speed", result.extremes.lattice_speed},
+                       {"lattice_speed_limit", limits.max_lattice_speed}};
   nlohmann::json timing = nlohmann::json::object();
   for (const auto& [name, seconds] : sim.timers().entries()) timing[name] = seconds;
   j["timing"] = timing;

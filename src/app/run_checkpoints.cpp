@@ -19,6 +19,8 @@ namespace fs = std::filesystem;
 // Names of the caller's data in the checkpoint (docs/checkpoints.md, "settle run's sections").
 constexpr const char* kOutputNextIndex = "run/output_next_index";
 constexpr const char* kWallSeconds = "run/wall_seconds";
+constexpr const char* kPeakDensityDeviation = "run/peak_density_deviation";
+constexpr const char* kPeakLatticeSpeed = "run/peak_lattice_speed";
 constexpr const char* kTimeseriesBytes = "run/timeseries_bytes";
 constexpr const char* kVtkNextIndex = "run/vtk_next_index";
 constexpr const char* kVtkFilesWritten = "run/vtk_files_written";
@@ -78,6 +80,16 @@ std::size_t sample_record_bytes() {
 }
 
 // A whole number stored as a caller value (exact in a double up to 2^53).
+/// A non-negative finite value the checkpoint must hold.
+double measured_value(const coupling::CheckpointCallerData& caller, const char* name) {
+  const auto it = caller.values.find(name);
+  if (it == caller.values.end())
+    throw io::CheckpointError(fmt::format("the checkpoint has no value '{}' (not written by settle run?)", name));
+  if (!(it->second >= 0.0) || !std::isfinite(it->second))
+    throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a non-negative number", name, it->second));
+  return it->second;
+}
+
 std::int64_t whole_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const auto it = caller.values.find(name);
   if (it == caller.values.end())
@@ -192,6 +204,8 @@ void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunS
   data.resolved_case = resolved_case_;
   data.values[kOutputNextIndex] = static_cast<double>(loop.next_output_index);
   data.values[kWallSeconds] = loop.wall_seconds;
+  data.values[kPeakDensityDeviation] = loop.extremes.density_deviation;
+  data.values[kPeakLatticeSpeed] = loop.extremes.lattice_speed;
   data.values[kTimeseriesBytes] = static_cast<double>(timeseries_bytes);
   data.values[kVtkNextIndex] = static_cast<double>(vtk.next_index);
   data.values[kVtkFilesWritten] = static_cast<double>(vtk.files_written);
@@ -229,6 +243,8 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
     loop_.step = checkpoint_->steps();
     loop_.next_output_index = whole_value(caller, kOutputNextIndex);
     loop_.wall_seconds = caller.values.count(kWallSeconds) ? caller.values.at(kWallSeconds) : 0.0;
+    loop_.extremes.density_deviation = measured_value(caller, kPeakDensityDeviation);
+    loop_.extremes.lattice_speed = measured_value(caller, kPeakLatticeSpeed);
     const std::int64_t threads = whole_value(caller, kThreads);
     if (threads < 1 || threads > std::numeric_limits<int>::max())
       throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kThreads, threads));

@@ -61,15 +61,33 @@ WallProximity nearest_to_wall(const Shape& shape, const Eigen::Vector3d& positio
   return p;
 }
 
-SpringDashpot spring_dashpot(double mass_si, double effective_mass_si, const ContactParameters& parameters) {
+SpringDashpot spring_dashpot(double mass_si, double effective_mass_si, const ContactParameters& parameters,
+                             double restitution) {
   // Damped oscillator M x'' + c x' + k x = 0 with M = m_eff: half period pi / sqrt(k/M - (c/2M)^2)
   // and velocity ratio exp(-pi zeta / sqrt(1 - zeta^2)) = e for the damping ratio
-  // zeta = c / (2 sqrt(k M)) = -ln e / sqrt(pi^2 + ln^2 e), whatever M; the half period is T_c when
-  // M = m.
-  const double log_e = std::log(parameters.restitution);
+  // zeta = c / (2 sqrt(k M)) = -ln e / sqrt(pi^2 + ln^2 e), whatever k and M. k is the dry one,
+  // m (pi^2 + ln^2 e_dry) / T_c^2, so the half period is T_c when M = m and e = e_dry; then
+  // c = 2 zeta sqrt(k M) = -2 ln e sqrt(m m_eff) / T_c.
+  constexpr double pi2 = std::numbers::pi * std::numbers::pi;
+  const double log_dry = std::log(parameters.restitution), log_e = std::log(restitution);
   const double t = parameters.collision_time_si;
-  return {mass_si * (std::numbers::pi * std::numbers::pi + log_e * log_e) / (t * t),
-          -2.0 * log_e * std::sqrt(mass_si * effective_mass_si) / t};
+  const double stiffness = mass_si * (pi2 + log_dry * log_dry) / (t * t);
+  const double damping_ratio = -log_e / std::sqrt(pi2 + log_e * log_e);
+  return {stiffness, 2.0 * damping_ratio * std::sqrt(stiffness * effective_mass_si)};
+}
+
+SpringDashpot spring_dashpot(double mass_si, double effective_mass_si, const ContactParameters& parameters) {
+  return spring_dashpot(mass_si, effective_mass_si, parameters, parameters.restitution);
+}
+
+double impact_stokes_number(double body_density_si, double impact_speed_si, double diameter_si, double viscosity_si) {
+  return body_density_si * std::abs(impact_speed_si) * diameter_si / (9.0 * viscosity_si);
+}
+
+double contact_restitution(const ContactParameters& parameters, double impact_stokes_number) {
+  if (parameters.wet_stokes_scale == 0.0) return parameters.restitution;
+  const double ratio = impact_stokes_number > 0.0 ? std::exp(-parameters.wet_stokes_scale / impact_stokes_number) : 0.0;
+  return parameters.restitution * std::max(ratio, kMinimumWetRestitutionRatio);
 }
 
 double effective_mass(double mass_si, const Eigen::Matrix3d& inverse_inertia_n, const Eigen::Vector3d& offset_si,
@@ -97,6 +115,25 @@ WallContact::WallContact(std::shared_ptr<const Shape> shape, std::vector<WallPla
     throw std::invalid_argument("WallContact: contact distance must be >= 0");
   if (parameters_.substeps_per_collision < 1)
     throw std::invalid_argument("WallContact: at least one substep per collision");
+  if (!(parameters_.wet_stokes_scale >= 0.0) || !std::isfinite(parameters_.wet_stokes_scale))
+    throw std::invalid_argument("WallContact: the wet Stokes scale must be >= 0");
+  if (parameters_.wet_stokes_scale > 0.0 &&
+      (!(parameters_.fluid_dynamic_viscosity_si > 0.0) || !std::isfinite(parameters_.fluid_dynamic_viscosity_si)))
+    throw std::invalid_argument("WallContact: a wet contact needs the liquid's viscosity (> 0)");
+  impact_speeds_si_.assign(walls_.size(), std::nullopt);
+}
+
+void WallContact::restore_impact_speeds(std::vector<std::optional<double>> speeds_si) {
+  if (speeds_si.size() != walls_.size())
+    throw std::invalid_argument("WallContact::restore_impact_speeds: one entry per wall expected");
+  impact_speeds_si_ = std::move(speeds_si);
+}
+
+double WallContact::restitution_at(double impact_speed_si, double mass_si) const {
+  if (parameters_.wet_stokes_scale == 0.0) return parameters_.restitution;
+  const double stokes = impact_stokes_number(mass_si / shape_->volume(), impact_speed_si, shape_->equivalent_diameter(),
+                                             parameters_.fluid_dynamic_viscosity_si);
+  return contact_restitution(parameters_, stokes);
 }
 
 double WallContact::min_gap_si(const RigidBodyState& state) const {
@@ -112,13 +149,16 @@ Wrench WallContact::wrench(const RigidBody& body, const RigidBodyState& state) c
   const MassProperties& mass = body.mass_properties();
   const Eigen::Matrix3d inverse_inertia_n = rotation * mass.inertia.inverse() * rotation.transpose();
   Wrench total;
-  for (const auto& wall : walls_) {
+  for (std::size_t i = 0; i < walls_.size(); ++i) {
+    const WallPlane& wall = walls_[i];
     const double overlap = parameters_.contact_distance_si - wall_gap(*shape_, state.position_si, rotation, wall);
     if (!(overlap > 0.0)) continue;
     const Eigen::Vector3d arm = nearest_to_wall(*shape_, state.position_si, rotation, wall).point_si - state.position_si;
-    const SpringDashpot law =
-        spring_dashpot(mass.mass, effective_mass(mass.mass, inverse_inertia_n, arm, wall.normal), parameters_);
     const double normal_speed = wall.normal.dot(state.velocity_si + omega_n.cross(arm));
+    const double impact_speed = impact_speeds_si_[i].value_or(std::max(-normal_speed, 0.0));
+    const SpringDashpot law =
+        spring_dashpot(mass.mass, effective_mass(mass.mass, inverse_inertia_n, arm, wall.normal), parameters_,
+                       restitution_at(impact_speed, mass.mass));
     const Eigen::Vector3d force = (law.stiffness * overlap - law.damping * normal_speed) * wall.normal;
     total.force_si += force;
     total.torque_si += arm.cross(force);
@@ -138,26 +178,45 @@ int WallContact::substep_count(double dt_si) const {
   return std::max(1, static_cast<int>(std::min(substeps, 1.0e6)));
 }
 
-ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& external) const {
+void WallContact::update_impacts(const RigidBodyState& state) {
+  const Eigen::Matrix3d rotation = state.attitude.body_to_inertial();
+  const Eigen::Vector3d omega_n = rotation * state.angular_velocity_b_si;
+  for (std::size_t i = 0; i < walls_.size(); ++i) {
+    const WallPlane& wall = walls_[i];
+    if (!(wall_gap(*shape_, state.position_si, rotation, wall) < parameters_.contact_distance_si)) {
+      impact_speeds_si_[i].reset();
+    } else if (!impact_speeds_si_[i]) {
+      const Eigen::Vector3d arm = nearest_to_wall(*shape_, state.position_si, rotation, wall).point_si - state.position_si;
+      impact_speeds_si_[i] = std::max(-wall.normal.dot(state.velocity_si + omega_n.cross(arm)), 0.0);
+    }
+  }
+}
+
+ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& external) {
   return advance(body, dt_si, external, VirtualInertia{});
 }
 
 ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& external,
-                                 const VirtualInertia& virtual_inertia) const {
+                                 const VirtualInertia& virtual_inertia) {
   ContactStep step;
   if (body.motion_kind() != MotionKind::free || !within_reach(body.state(), dt_si)) {
     body.correct(dt_si, external, virtual_inertia);
     step.min_gap_si = min_gap_si(body.state());
+    update_impacts(body.state());
     return step;
   }
   step.substeps = substep_count(dt_si);
   const double h = dt_si / step.substeps;
   step.min_gap_si = min_gap_si(body.state());
   for (int s = 0; s < step.substeps; ++s) {
+    update_impacts(body.state());
     // Explicit midpoint rule for the contact wrench: predict half a substep with the wrench at the
     // start, then take the whole substep with the wrench at that midpoint.
     RigidBody midpoint = body;
     midpoint.correct(0.5 * h, external + wrench(body, body.state()), virtual_inertia);
+    // A contact that begins within this substep is recorded at the midpoint, before any dashpot
+    // impulse has slowed the body: its impact speed is the approach speed.
+    update_impacts(midpoint.state());
     const Wrench contact = wrench(midpoint, midpoint.state());
     body.correct(h, external + contact, virtual_inertia);
     step.mean_wrench.force_si += contact.force_si * (h / dt_si);
@@ -165,6 +224,7 @@ ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& ex
     step.touching = step.touching || !contact.force_si.isZero(0.0);
     step.min_gap_si = std::min(step.min_gap_si, min_gap_si(body.state()));
   }
+  update_impacts(body.state());
   return step;
 }
 

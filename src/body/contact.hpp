@@ -45,7 +45,30 @@
 //    forms for a smooth curved surface near a wall; a flat face parallel to the wall (cuboid,
 //    cylinder end, mesh facet) has a squeeze-film force that diverges as 1/h^3 and an edge one
 //    that diverges logarithmically, with no published closed form for arbitrary bodies. The
-//    dissipation of the unresolved gap is left to e and to the resolved flow; docs/rigid-body.md.
+//    dissipation of the unresolved gap is left to the restitution (below) and to the resolved flow;
+//    docs/rigid-body.md.
+//
+// Wet restitution: in a viscous liquid the film drained in the last part of the approach takes
+// most of the impact energy, and an immersed sphere does not rebound at all below an impact Stokes
+// number St = rho_p v d / (9 mu) of about 10 (Gondret, Lance and Petit 2002, Phys. Fluids 14, 643,
+// doi:10.1063/1.1427920). The fluid solver cannot resolve that film: the spring starts zeta_c
+// (about 1.5 cells) above the wall. So each contact takes the measured effective restitution of
+// Legendre, Zenit, Daniel and Guiraud 2006 (Chem. Eng. Sci. 61, 3543,
+// doi:10.1016/j.ces.2005.12.033), their fit to Gondret's and Joseph's data,
+//
+//   e = e_dry exp(-beta / St),   beta = 35 (contact.wet_stokes_scale; 0 keeps every contact dry),
+//
+// with v the normal speed of the contact point when the gap first falls below zeta_c, rho_p the
+// body's mean density and d its volume-equivalent diameter (exact for a sphere; for other shapes an
+// approximation: the fit was made with spheres). The restitution, and with it k and c, are then
+// fixed for that contact until the gap opens again; a body resting on a wall is one long contact.
+// The liquid changes only the dashpot: k stays the dry one (the solids' stiffness, and the static
+// compression W/k with it), and c = 2 zeta sqrt(k m_eff) takes the damping ratio
+// zeta = -ln e / sqrt(pi^2 + ln^2 e) of the wet e. A wet contact therefore lasts longer than T_c,
+// T_c sqrt((pi^2 + ln^2 e) / (pi^2 + ln^2 e_dry)) for a centred impact, which also spreads the
+// stop over more fluid steps. e is floored at 1e-3 e_dry (zeta = 0.91, the contact lasting 2.45 T_c
+// for e_dry = 0.97): an underdamped contact ends, and a rebound of 1e-3 of the impact speed is
+// none in practice. The overlap stays below v T_c / pi (max_overlap_bound): damping only lowers it.
 //
 // Contact distance zeta_c (the shift): the spring starts when the gap falls below zeta_c rather
 // than at g = 0. The immersed boundary smears the surface over its delta kernel's half-width, so a
@@ -79,6 +102,7 @@
 // planes; a body moves in front of them.
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -124,7 +148,22 @@ struct ContactParameters {
   double contact_distance_si = 0.0;  ///< zeta_c, m, >= 0: the gap at which the spring starts
   /// Substeps per collision time: the substep is at most T_c / this (file comment).
   int substeps_per_collision = 100;
+  /// beta of the wet restitution e_dry exp(-beta / St) (file comment); 0: every contact is dry.
+  double wet_stokes_scale = 0.0;
+  /// Dynamic viscosity of the liquid, Pa s, for the impact Stokes number; > 0 when wet_stokes_scale > 0.
+  double fluid_dynamic_viscosity_si = 0.0;
 };
+
+/// Smallest wet restitution as a fraction of the dry one (file comment).
+inline constexpr double kMinimumWetRestitutionRatio = 1.0e-3;
+
+/// Impact Stokes number rho_p v d / (9 mu) (Gondret et al. 2002): body density (kg/m^3), normal
+/// impact speed (m/s, its magnitude is used), diameter (m), dynamic viscosity (Pa s).
+double impact_stokes_number(double body_density_si, double impact_speed_si, double diameter_si, double viscosity_si);
+
+/// Restitution of a contact that starts at the given impact Stokes number: e_dry when
+/// wet_stokes_scale is 0, else e_dry max(exp(-beta / St), kMinimumWetRestitutionRatio).
+double contact_restitution(const ContactParameters& parameters, double impact_stokes_number);
 
 /// Spring stiffness k (N/m) and dashpot coefficient c (N s/m) of the model for a body of mass m
 /// touching with effective mass m_eff (kg; file comment): a free impact lasts T_c sqrt(m_eff / m)
@@ -134,6 +173,10 @@ struct SpringDashpot {
   double damping = 0.0;
 };
 SpringDashpot spring_dashpot(double mass_si, double effective_mass_si, const ContactParameters& parameters);
+/// The same for a contact of restitution e in (0, 1] (a wet contact's): k is still the dry one, and
+/// c gives the damping ratio of e (file comment).
+SpringDashpot spring_dashpot(double mass_si, double effective_mass_si, const ContactParameters& parameters,
+                             double restitution);
 
 /// Effective mass of a frictionless point impact along the unit normal n at offset r (inertial,
 /// from the centre of mass) on a body of mass m and inertia I_n (inertial frame, about the centre
@@ -159,7 +202,8 @@ struct ContactStep {
 class WallContact {
  public:
   /// Throws std::invalid_argument for an empty shape, a non-unit wall normal, e outside (0, 1],
-  /// T_c <= 0, zeta_c < 0 or fewer than one substep per collision.
+  /// T_c <= 0, zeta_c < 0, fewer than one substep per collision, a negative wet_stokes_scale, or a
+  /// wet one without a positive viscosity.
   WallContact(std::shared_ptr<const Shape> shape, std::vector<WallPlane> walls, const ContactParameters& parameters);
 
   const std::vector<WallPlane>& walls() const { return walls_; }
@@ -167,27 +211,40 @@ class WallContact {
   const Shape& shape() const { return *shape_; }
 
   /// Contact wrench on a body in the given state (inertial, about the centre of mass; zero when no
-  /// wall is within zeta_c).
+  /// wall is within zeta_c). A wall whose contact is in progress uses the restitution fixed when it
+  /// began; for any other the contact would begin now, at the state's normal speed.
   Wrench wrench(const RigidBody& body, const RigidBodyState& state) const;
+
+  /// For each wall, the normal speed (m/s, >= 0) at which the contact in progress began, or none.
+  /// Part of the body's state for a restart (checkpoints save it).
+  const std::vector<std::optional<double>>& impact_speeds_si() const { return impact_speeds_si_; }
+  /// Restores impact_speeds_si() (one entry per wall; throws std::invalid_argument otherwise).
+  void restore_impact_speeds(std::vector<std::optional<double>> speeds_si);
+  /// Restitution of a contact that begins at this normal speed for a body of this mass.
+  double restitution_at(double impact_speed_si, double mass_si) const;
   /// Smallest gap to any wall at the state's pose, m (infinity without walls).
   double min_gap_si(const RigidBodyState& state) const;
 
   /// Advances a free body over dt with `external` (inertial, e.g. hydrodynamic) held constant plus
   /// the contact wrench, sub-stepped when a wall is within reach this step (file comment);
   /// otherwise exactly body.correct(dt, external). Towed and fixed bodies: body.correct(dt, external).
-  ContactStep advance(RigidBody& body, double dt_si, const Wrench& external) const;
+  ContactStep advance(RigidBody& body, double dt_si, const Wrench& external);
   /// The same with the corrector's virtual mass and inertia (RigidBody::correct), applied in every
   /// substep with the whole step's acceleration estimate, so that a body at rest on a wall
   /// (a = a_est = 0) balances exactly as without it.
-  ContactStep advance(RigidBody& body, double dt_si, const Wrench& external, const VirtualInertia& virtual_inertia) const;
+  ContactStep advance(RigidBody& body, double dt_si, const Wrench& external, const VirtualInertia& virtual_inertia);
 
  private:
   bool within_reach(const RigidBodyState& state, double dt_si) const;
   int substep_count(double dt_si) const;
+  /// Starts or ends each wall's contact record at the state (the impact speed when a gap has just
+  /// fallen below zeta_c, none when it is above).
+  void update_impacts(const RigidBodyState& state);
 
   std::shared_ptr<const Shape> shape_;
   std::vector<WallPlane> walls_;
   ContactParameters parameters_;
+  std::vector<std::optional<double>> impact_speeds_si_;
 };
 
 }  // namespace settle::body

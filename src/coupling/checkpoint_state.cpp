@@ -82,6 +82,7 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       {"moving window (domain.follow_particle)", s.follow_particle ? 1.0 : 0.0, s.follow_particle ? "true" : "false"},
       {"particle-wall contact", contact ? 1.0 : 0.0, contact ? "on" : "off"},
       number("contact restitution", contact ? wall.restitution : 0.0),
+      number("contact wet Stokes scale", contact ? wall.wet_stokes_scale : 0.0),
       number("contact collision time (s)", contact ? wall.collision_time_si : 0.0),
       number("contact distance (m)", contact ? wall.contact_distance_si : 0.0),
       number("contact substeps per collision", contact ? wall.substeps_per_collision : 0),
@@ -248,6 +249,12 @@ struct CheckpointAccess {
     out.f64(sim.last_.slip_rms_si);
     write_wrench(out, sim.last_.contact);
     out.f64(sim.last_.wall_gap_si);
+    // The impact speed of each wall's contact in progress (-1: none): it fixes that contact's
+    // restitution (body/contact.hpp), so a restart in mid-contact continues the same contact.
+    const std::vector<std::optional<double>> impacts =
+        sim.contact_ ? sim.contact_->impact_speeds_si() : std::vector<std::optional<double>>{};
+    out.u64(impacts.size());
+    for (const std::optional<double>& speed : impacts) out.f64(speed.value_or(-1.0));
     out.u64(sim.timers_.entries().size());
     for (const auto& [name, seconds] : sim.timers_.entries()) {
       out.string(name);
@@ -266,6 +273,7 @@ struct CheckpointAccess {
     Eigen::Vector3d acceleration_estimate_si = Eigen::Vector3d::Zero();
     Eigen::Vector3d angular_acceleration_estimate_b_si = Eigen::Vector3d::Zero();
     StepObservation last;
+    std::vector<std::optional<double>> impact_speeds_si;
     std::vector<std::pair<std::string, double>> timers;
   };
 
@@ -289,6 +297,10 @@ struct CheckpointAccess {
     s.last.contact = read_wrench(in);
     s.last.wall_gap_si = in.f64();
     for (std::uint64_t n = in.u64(); n > 0; --n) {
+      const double speed = in.f64();
+      s.impact_speeds_si.push_back(speed < 0.0 ? std::nullopt : std::optional<double>(speed));
+    }
+    for (std::uint64_t n = in.u64(); n > 0; --n) {
       std::string name = in.string();
       s.timers.emplace_back(std::move(name), in.f64());
     }
@@ -306,6 +318,7 @@ struct CheckpointAccess {
     sim.virtual_inertia_.acceleration_si = s.acceleration_estimate_si;
     sim.virtual_inertia_.angular_acceleration_b_si = s.angular_acceleration_estimate_b_si;
     sim.last_ = s.last;
+    if (sim.contact_) sim.contact_->restore_impact_speeds(s.impact_speeds_si);
     sim.timers_ = SubstepTimers{};
     for (const auto& [name, seconds] : s.timers) sim.timers_.add(name.c_str(), seconds);
   }

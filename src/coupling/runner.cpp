@@ -1,5 +1,6 @@
 #include "coupling/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -73,6 +74,7 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
   checkpoints.due(time.time_si(), time.dt_si());
   RunResult result;
   result.samples = std::move(start.samples);
+  result.extremes = start.extremes;
   const auto segment_start = Clock::now();
   const auto wall_so_far = [&] { return start.wall_seconds + seconds_since(segment_start); };
   double next_progress_s = progress_interval_wall_s;
@@ -82,6 +84,9 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     result.samples.push_back(take_sample(sim, time.time_si()));
     if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
     const HealthReport health = check_health(sim);
+    result.extremes.density_deviation = std::max(
+        {result.extremes.density_deviation, std::abs(health.min_density - 1.0), std::abs(health.max_density - 1.0)});
+    result.extremes.lattice_speed = std::max(result.extremes.lattice_speed, health.max_lattice_speed);
     if (!health.problem.empty())
       throw NumericalError(fmt::format("at t = {:.6g} s (step {}): {}", time.time_si(), time.step(), health.problem));
     if (callbacks.stop_after_sample) stop_reason = callbacks.stop_after_sample(result.samples.back());
@@ -98,7 +103,7 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
   const auto hand_over_checkpoint = [&] {
     // The samples are lent to the state rather than copied (a long run holds many); they come back
     // before anything else reads them.
-    RunStart state{time.step(), output.next_index(), std::move(result.samples), wall_so_far()};
+    RunStart state{time.step(), output.next_index(), std::move(result.samples), wall_so_far(), result.extremes};
     callbacks.checkpoint_due(state);
     result.samples = std::move(state.samples);
     last_checkpoint_wall_s = seconds_since(segment_start);

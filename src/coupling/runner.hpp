@@ -45,11 +45,19 @@ Sample take_sample(const Simulation& simulation, double t_si);
 /// Where run() starts, and the loop's own state that a checkpoint stores beside the simulation's.
 /// A fresh run starts from the default; a continued run from what checkpoint_due was given, with
 /// the simulation restored to the same step.
+/// The largest values the health check (coupling/health.hpp) met at the output times of a run:
+/// how close the run came to its limits (summary.json "fluid_health").
+struct RunExtremes {
+  double density_deviation = 0.0;  ///< largest |rho - 1| (lattice units)
+  double lattice_speed = 0.0;      ///< largest |u| dt / dx
+};
+
 struct RunStart {
   std::int64_t step = 0;                ///< coupled steps already taken (== Simulation::steps())
   std::int64_t next_output_index = 0;   ///< OutputSchedule::next_index() of the samples
   std::vector<Sample> samples;          ///< recorded so far (RunResult::samples: the summary's data)
   double wall_seconds = 0.0;            ///< wall time of the run so far (earlier segments)
+  RunExtremes extremes;                 ///< of the health checks so far (earlier segments)
 };
 
 struct RunCallbacks {
@@ -83,6 +91,7 @@ struct RunResult {
   double mlups = 0.0;  ///< million fluid-cell updates per wall second over steps and wall_seconds
   std::string stop_reason;  ///< "end_time", "reached_boundary", "interrupted" or a stop_after_sample reason
   std::vector<Sample> samples;
+  RunExtremes extremes;  ///< over every output time, earlier segments (RunStart) included
 };
 
 /// Runs from t = 0 to setup().end_time_si (or until the body reaches the grid's edge, a callback

@@ -45,6 +45,9 @@ void check_contact_setup(const SimulationSetup& s) {
   if (!(s.contact_collision_steps >= 1.0 && s.contact_collision_steps <= 1.0e4))
     throw InputError(fmt::format("contact.collision_steps: must be in [1, 1e4] fluid time steps, got {}",
                                  s.contact_collision_steps));
+  if (!(s.contact_wet_stokes_scale >= 0.0 && s.contact_wet_stokes_scale <= 1.0e3))
+    throw InputError(fmt::format("contact.wet_stokes_scale: must be in [0, 1000] (0: dry contacts), got {}",
+                                 s.contact_wet_stokes_scale));
   const double minimum = ibm::support_half_width(s.kernel) - 0.5;
   const double distance = contact_distance_cells(s);
   if (!(distance >= minimum && distance <= 1.0e3))
@@ -241,6 +244,8 @@ void Simulation::make_wall_contact() {
   if (walls.empty()) return;
   body::ContactParameters parameters;
   parameters.restitution = setup_.contact_restitution;
+  parameters.wet_stokes_scale = setup_.contact_wet_stokes_scale;
+  parameters.fluid_dynamic_viscosity_si = setup_.dynamic_viscosity_si;
   parameters.collision_time_si = setup_.contact_collision_steps * units_.dt_si();
   parameters.contact_distance_si = contact_distance_cells(setup_) * units_.dx_si();
   contact_.emplace(setup_.shape, std::move(walls), parameters);

@@ -88,6 +88,8 @@ struct SimulationSetup {
   // window follows the particle (it then never nears a face: the window keeps it at its start).
   bool wall_contact = true;
   double contact_restitution = 0.97;    ///< dry normal restitution e in (0, 1] (glass, steel: ~0.97)
+  /// beta of the wet restitution e exp(-beta / St) (body/contact.hpp; Legendre et al. 2006); 0: dry contacts
+  double contact_wet_stokes_scale = 35.0;
   double contact_collision_steps = 10.0;  ///< collision time T_c in fluid time steps (Kempe and Froehlich 2012)
   /// Gap (cells) at which the contact spring starts. Unset: the delta kernel's half-width (1.5 cells
   /// for roma3, 2 for peskin4), so the surface markers' stencils stay inside the grid at rest and

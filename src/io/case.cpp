@@ -191,6 +191,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
 
   s.wall_contact = v.boolean("contact.enabled");
   s.contact_restitution = v.real("contact.restitution");
+  s.contact_wet_stokes_scale = v.real("contact.wet_stokes_scale");
   s.contact_collision_steps = v.real("contact.collision_steps");
   if (v.has("contact.distance_cells")) s.contact_distance_cells = v.real("contact.distance_cells");
 

@@ -111,6 +111,9 @@ std::vector<KeySpec> declare() {
               "spring-dashpot contact with the walls of non-periodic axes (free bodies, fixed window only)"),
       real("contact.restitution", Value(0.97), "", {0.0, 1.0, false, true},
            "dry normal restitution coefficient e (glass, steel: about 0.97)"),
+      real("contact.wet_stokes_scale", Value(35.0), "", closed(0.0, 1.0e3),
+           "wet restitution: each contact takes restitution x exp(-beta/St), St = rho_p v d_eq / (9 mu) at impact, beta this "
+           "value (Legendre et al. 2006; docs/rigid-body.md); 0: dry contacts"),
       real("contact.collision_steps", Value(10.0), "", closed(1.0, 1.0e4),
            "collision time T_c in fluid time steps (Kempe and Froehlich 2012)"),
       // The lower bound depends on the kernel (half-width - 0.5: 1 for roma3, 1.5 for peskin4); the

@@ -42,7 +42,7 @@ static_assert(std::endian::native == std::endian::little,
 /// Version of the file layout and of the meaning of the sections settle writes. A reader refuses
 /// every other version. 2: the simulation record holds the last step's accelerations (the
 /// corrector's virtual-mass estimate, coupling/simulation.hpp) after the internal fluid momentum.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 2;
+inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
 
 /// A checkpoint that cannot be used: unreadable, truncated, corrupt, of another format version or
 /// written for another case. The user can fix it (choose another checkpoint or the right case), so

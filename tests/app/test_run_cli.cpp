@@ -94,7 +94,7 @@ TEST(RunCli, ResolvedCaseRunsAgainWithTheSameResult) {
   const Result r = run_settle("-o " + first.string() + " --set run.end_time=0.0025 --threads 1");
   ASSERT_EQ(r.status, 0) << r.err;
   // The default case is a spheroid: particle.scale (mesh only) must not be written as if given.
-  EXPECT_EQ(read_text(first / "case.resolved.toml").find("scale ="), std::string::npos);
+  EXPECT_EQ(read_text(first / "case.resolved.toml").find("\nscale ="), std::string::npos);  // a key of its own
   const Result again = run_settle((first / "case.resolved.toml").string() + " -o " + second.string() + " --threads 1");
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_EQ(read_text(first / "timeseries.csv"), read_text(second / "timeseries.csv"));
@@ -201,6 +201,9 @@ TEST(RunCli, ParticleInsideTheContactDistanceIsRefused) {
 TEST(RunCli, ContactKeysOutOfRangeExitTwo) {
   EXPECT_EQ(run_settle("-o " + scratch("e").string() + " --set contact.restitution=0").status, 2);
   EXPECT_EQ(run_settle("-o " + scratch("e").string() + " --set contact.collision_steps=0.5").status, 2);
+  const Result wet = run_settle("-o " + scratch("e").string() + " --set contact.wet_stokes_scale=-1");
+  EXPECT_EQ(wet.status, 2);
+  EXPECT_NE(wet.err.find("wet_stokes_scale"), std::string::npos) << wet.err;
   // 1.2 cells is inside the schema's range [1, 1000] but below peskin4's bound 2 - 0.5 = 1.5.
   const Result r = run_settle("-o " + scratch("e").string() + " " + kNearFloor +
                               " --set 'numerics.delta_kernel=\"peskin4\"' --set contact.distance_cells=1.2");

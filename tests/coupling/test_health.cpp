@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <bit>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -136,6 +137,29 @@ TEST(Runner, ADivergedRunStopsWithANumericalErrorAfterWritingTheSample) {
   EXPECT_EQ(samples, 2);
 }
 
+// summary.json's fluid_health: the largest deviation and speed the checks met, over every sample.
+// A density defect of 5% planted at one sample (inside the limit, so the run goes on) must be the
+// largest deviation of the run: the slow driven flow's own is ~1e-6.
+TEST(Runner, ExtremesAreTheLargestValuesTheHealthCheckMet) {
+  Simulation sim(small_setup());
+  RunExtremes seen;
+  RunCallbacks callbacks;
+  int samples = 0;
+  callbacks.on_sample = [&](const Sample&) {
+    if (++samples == 3) plant_density(sim, 1.05);  // at step 8: even, where populations may be set
+    const HealthReport h = check_health(sim);  // what the runner checks next, at the same state
+    seen.density_deviation =
+        std::max({seen.density_deviation, std::abs(h.min_density - 1.0), std::abs(h.max_density - 1.0)});
+    seen.lattice_speed = std::max(seen.lattice_speed, h.max_lattice_speed);
+  };
+  const RunResult r = run(sim, callbacks);
+  EXPECT_EQ(r.stop_reason, "end_time");
+  EXPECT_EQ(r.extremes.density_deviation, seen.density_deviation);
+  EXPECT_EQ(r.extremes.lattice_speed, seen.lattice_speed);
+  EXPECT_NEAR(r.extremes.density_deviation, 0.05, 1e-12);
+  EXPECT_GT(r.extremes.lattice_speed, 0.0);
+}
+
 TEST(Runner, StopAfterSampleEndsTheRunWithItsReason) {
   Simulation sim(small_setup());
   RunCallbacks callbacks;
@@ -253,6 +277,8 @@ TEST(Runner, ContinuedRunEqualsTheUninterruptedRun) {
     }
     EXPECT_EQ(std::bit_cast<std::uint64_t>(a.slip_max_si), std::bit_cast<std::uint64_t>(b.slip_max_si)) << i;
   }
+  EXPECT_EQ(continued.extremes.density_deviation, expected.extremes.density_deviation);
+  EXPECT_EQ(continued.extremes.lattice_speed, expected.extremes.lattice_speed);
   const RunSummary s_expected = summarise(straight, expected);
   const RunSummary s_continued = summarise(second, continued);
   EXPECT_EQ(s_continued.drag_coefficient, s_expected.drag_coefficient);

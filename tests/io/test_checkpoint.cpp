@@ -237,7 +237,11 @@ TEST_F(CheckpointFileTest, OtherFormatVersionIsRefused) {
     CheckpointFile read(file);
     FAIL() << "accepted";
   } catch (const CheckpointError& e) {
-    EXPECT_NE(std::string(e.what()).find("version 2"), std::string::npos) << e.what();
+    // Names the file's version and the one this build reads.
+    EXPECT_NE(std::string(e.what()).find("format version " + std::to_string(version)), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("reads version " + std::to_string(kCheckpointFormatVersion)),
+              std::string::npos)
+        << e.what();
   }
 }
 
