@@ -79,8 +79,7 @@ std::size_t sample_record_bytes() {
   return one.take().size();
 }
 
-// A whole number stored as a caller value (exact in a double up to 2^53).
-/// A non-negative finite value the checkpoint must hold.
+// A non-negative finite value the checkpoint must hold.
 double measured_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const auto it = caller.values.find(name);
   if (it == caller.values.end())
@@ -90,6 +89,7 @@ double measured_value(const coupling::CheckpointCallerData& caller, const char* 
   return it->second;
 }
 
+// A whole number stored as a caller value (exact in a double up to 2^53).
 std::int64_t whole_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const auto it = caller.values.find(name);
   if (it == caller.values.end())

@@ -13,7 +13,7 @@
 //
 //   overlap   delta = zeta_c - g            (g: gap between the wall plane and the body)
 //   force     F = (k delta - c v_n) n       for delta > 0, zero otherwise
-//   k = m (pi^2 + ln^2 e) / T_c^2,          c = -2 ln(e) sqrt(m m_eff) / T_c
+//   k = m (pi^2 + ln^2 e) / T_c^2,          c = -2 ln(e) sqrt(m m_eff) / T_c    (dry contact, e = e_dry)
 //
 // n is the wall's unit normal into the fluid and v_n = n . (v + omega x r) the normal velocity of
 // the contact point (r from the centre of mass). For a centred impact (m_eff = m, a sphere) these
@@ -60,8 +60,8 @@
 //
 // with v the normal speed of the contact point when the gap first falls below zeta_c, rho_p the
 // body's mean density and d its volume-equivalent diameter (exact for a sphere; for other shapes an
-// approximation: the fit was made with spheres). The restitution, and with it k and c, are then
-// fixed for that contact until the gap opens again; a body resting on a wall is one long contact.
+// approximation: the fit was made with spheres). The restitution, and with it c, is then fixed for
+// that contact until the gap opens again; a body resting on a wall is one long contact.
 // The liquid changes only the dashpot: k stays the dry one (the solids' stiffness, and the static
 // compression W/k with it), and c = 2 zeta sqrt(k m_eff) takes the damping ratio
 // zeta = -ln e / sqrt(pi^2 + ln^2 e) of the wet e. A wet contact therefore lasts longer than T_c,
