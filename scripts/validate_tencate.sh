@@ -5,8 +5,8 @@
 # speed against the measured u_max, and a table of the 5% bands (the largest difference of
 # u_z from the digitised curve over the measured u_max, and of the gap over the initial gap, while
 # the experiment's gap is above 1 d and above 2 d), and the first digitised velocities beside the
-# Basset-Boussinesq-Oseen solution for a release from rest. NOT run in CI: at the default 16 cells per diameter each case
-# takes about 10-15 minutes on two cores (docs/cases.md), at 20 about 2.4 times that.
+# Basset-Boussinesq-Oseen solution for a release from rest. NOT run in CI: at the default 16 cells per diameter the
+# four take about 4.5 minutes on two cores (docs/cases.md), at 20 cells several times that.
 #
 #   scripts/validate_tencate.sh [CELLS_PER_DIAMETER] [extra `settle run` arguments...]
 #   e.g. scripts/validate_tencate.sh 10

@@ -79,22 +79,25 @@ std::size_t sample_record_bytes() {
   return one.take().size();
 }
 
-// A non-negative finite value the checkpoint must hold.
-double measured_value(const coupling::CheckpointCallerData& caller, const char* name) {
+// A value the checkpoint must hold.
+double stored_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const auto it = caller.values.find(name);
   if (it == caller.values.end())
     throw io::CheckpointError(fmt::format("the checkpoint has no value '{}' (not written by settle run?)", name));
-  if (!(it->second >= 0.0) || !std::isfinite(it->second))
-    throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a non-negative number", name, it->second));
   return it->second;
+}
+
+// A non-negative finite value the checkpoint must hold.
+double measured_value(const coupling::CheckpointCallerData& caller, const char* name) {
+  const double value = stored_value(caller, name);
+  if (!(value >= 0.0) || !std::isfinite(value))
+    throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a non-negative number", name, value));
+  return value;
 }
 
 // A whole number stored as a caller value (exact in a double up to 2^53).
 std::int64_t whole_value(const coupling::CheckpointCallerData& caller, const char* name) {
-  const auto it = caller.values.find(name);
-  if (it == caller.values.end())
-    throw io::CheckpointError(fmt::format("the checkpoint has no value '{}' (not written by settle run?)", name));
-  const double value = it->second;
+  const double value = stored_value(caller, name);
   if (!(value >= 0.0 && value <= 9007199254740992.0 && std::floor(value) == value))
     throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a count", name, value));
   return static_cast<std::int64_t>(value);

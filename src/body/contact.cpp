@@ -178,18 +178,22 @@ int WallContact::substep_count(double dt_si) const {
   return std::max(1, static_cast<int>(std::min(substeps, 1.0e6)));
 }
 
-void WallContact::update_impacts(const RigidBodyState& state) {
+double WallContact::update_impacts(const RigidBodyState& state) {
   const Eigen::Matrix3d rotation = state.attitude.body_to_inertial();
   const Eigen::Vector3d omega_n = rotation * state.angular_velocity_b_si;
+  double min_gap = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < walls_.size(); ++i) {
     const WallPlane& wall = walls_[i];
-    if (!(wall_gap(*shape_, state.position_si, rotation, wall) < parameters_.contact_distance_si)) {
+    const double gap = wall_gap(*shape_, state.position_si, rotation, wall);
+    min_gap = std::min(min_gap, gap);
+    if (!(gap < parameters_.contact_distance_si)) {
       impact_speeds_si_[i].reset();
     } else if (!impact_speeds_si_[i]) {
       const Eigen::Vector3d arm = nearest_to_wall(*shape_, state.position_si, rotation, wall).point_si - state.position_si;
       impact_speeds_si_[i] = std::max(-wall.normal.dot(state.velocity_si + omega_n.cross(arm)), 0.0);
     }
   }
+  return min_gap;
 }
 
 ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& external) {
@@ -201,15 +205,15 @@ ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& ex
   ContactStep step;
   if (body.motion_kind() != MotionKind::free || !within_reach(body.state(), dt_si)) {
     body.correct(dt_si, external, virtual_inertia);
-    step.min_gap_si = min_gap_si(body.state());
-    update_impacts(body.state());
+    step.min_gap_si = update_impacts(body.state());
     return step;
   }
   step.substeps = substep_count(dt_si);
   const double h = dt_si / step.substeps;
-  step.min_gap_si = min_gap_si(body.state());
+  // Each substep starts where the previous one ended, so the records are updated (and the gaps
+  // measured) once per state: here for the start, then at every substep's midpoint and end.
+  step.min_gap_si = update_impacts(body.state());
   for (int s = 0; s < step.substeps; ++s) {
-    update_impacts(body.state());
     // Explicit midpoint rule for the contact wrench: predict half a substep with the wrench at the
     // start, then take the whole substep with the wrench at that midpoint.
     RigidBody midpoint = body;
@@ -222,9 +226,8 @@ ContactStep WallContact::advance(RigidBody& body, double dt_si, const Wrench& ex
     step.mean_wrench.force_si += contact.force_si * (h / dt_si);
     step.mean_wrench.torque_si += contact.torque_si * (h / dt_si);
     step.touching = step.touching || !contact.force_si.isZero(0.0);
-    step.min_gap_si = std::min(step.min_gap_si, min_gap_si(body.state()));
+    step.min_gap_si = std::min(step.min_gap_si, update_impacts(body.state()));
   }
-  update_impacts(body.state());
   return step;
 }
 

@@ -238,8 +238,8 @@ class WallContact {
   bool within_reach(const RigidBodyState& state, double dt_si) const;
   int substep_count(double dt_si) const;
   /// Starts or ends each wall's contact record at the state (the impact speed when a gap has just
-  /// fallen below zeta_c, none when it is above).
-  void update_impacts(const RigidBodyState& state);
+  /// fallen below zeta_c, none when it is above); returns the smallest gap (as min_gap_si).
+  double update_impacts(const RigidBodyState& state);
 
   std::shared_ptr<const Shape> shape_;
   std::vector<WallPlane> walls_;

@@ -12,13 +12,14 @@
 //  - the coupling: step count, the moving window's origin and anchor, the momentum of the fluid
 //    inside the body at the end of the last step (the next step's force needs its rate of
 //    change), the last step's accelerations (the corrector's virtual-mass estimate for the next
-//    step), the last step's observation (forces, slip, contact) and the sub-step timers;
+//    step), the last step's observation (forces, slip, contact), the impact speed of each wall
+//    contact in progress (it fixes that contact's wet restitution) and the sub-step timers;
 //  - a fingerprint of what the case determines (grid, lattice, precision, boundaries, dx, dt, tau,
 //    body force, gravity, motion kind, mass, markers, forcing, wall contact), checked on restore;
 //  - the caller's data: the resolved case text, named numbers and named blobs (the run loop's
 //    output schedule, accumulators, samples), stored as given.
 // Not saved: what the case rebuilds exactly (units, markers, shape, copy lists, the particle-wall
-// contact model, which keeps no state between steps), and the rigid body's switch_count() (a
+// contact model's parameters), and the rigid body's switch_count() (a
 // diagnostic that RigidBody cannot set; it restarts from 0).
 //
 // Restarting (the run loop's recipe): open the checkpoint (SimulationCheckpoint), read the resolved
