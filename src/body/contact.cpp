@@ -100,6 +100,22 @@ double max_overlap_bound(double load_si, double impact_speed_si, double stiffnes
   return 2.0 * std::max(load_si, 0.0) / stiffness_si + std::abs(impact_speed_si) * collision_time_si / std::numbers::pi;
 }
 
+namespace {
+
+// The lever arm from the body's centre to its point nearest the wall (inertial frame).
+Eigen::Vector3d arm_to_wall(const Shape& shape, const RigidBodyState& state, const Eigen::Matrix3d& rotation,
+                            const WallPlane& wall) {
+  return nearest_to_wall(shape, state.position_si, rotation, wall).point_si - state.position_si;
+}
+
+// The velocity of the body point at `arm` along the wall's normal (negative: approaching).
+double normal_speed(const RigidBodyState& state, const Eigen::Vector3d& omega_n, const Eigen::Vector3d& arm,
+                    const WallPlane& wall) {
+  return wall.normal.dot(state.velocity_si + omega_n.cross(arm));
+}
+
+}  // namespace
+
 WallContact::WallContact(std::shared_ptr<const Shape> shape, std::vector<WallPlane> walls,
                          const ContactParameters& parameters)
     : shape_(std::move(shape)), walls_(std::move(walls)), parameters_(parameters) {
@@ -153,13 +169,13 @@ Wrench WallContact::wrench(const RigidBody& body, const RigidBodyState& state) c
     const WallPlane& wall = walls_[i];
     const double overlap = parameters_.contact_distance_si - wall_gap(*shape_, state.position_si, rotation, wall);
     if (!(overlap > 0.0)) continue;
-    const Eigen::Vector3d arm = nearest_to_wall(*shape_, state.position_si, rotation, wall).point_si - state.position_si;
-    const double normal_speed = wall.normal.dot(state.velocity_si + omega_n.cross(arm));
-    const double impact_speed = impact_speeds_si_[i].value_or(std::max(-normal_speed, 0.0));
+    const Eigen::Vector3d arm = arm_to_wall(*shape_, state, rotation, wall);
+    const double speed_n = normal_speed(state, omega_n, arm, wall);
+    const double impact_speed = impact_speeds_si_[i].value_or(std::max(-speed_n, 0.0));
     const SpringDashpot law =
         spring_dashpot(mass.mass, effective_mass(mass.mass, inverse_inertia_n, arm, wall.normal), parameters_,
                        restitution_at(impact_speed, mass.mass));
-    const Eigen::Vector3d force = (law.stiffness * overlap - law.damping * normal_speed) * wall.normal;
+    const Eigen::Vector3d force = (law.stiffness * overlap - law.damping * speed_n) * wall.normal;
     total.force_si += force;
     total.torque_si += arm.cross(force);
   }
@@ -189,8 +205,8 @@ double WallContact::update_impacts(const RigidBodyState& state) {
     if (!(gap < parameters_.contact_distance_si)) {
       impact_speeds_si_[i].reset();
     } else if (!impact_speeds_si_[i]) {
-      const Eigen::Vector3d arm = nearest_to_wall(*shape_, state.position_si, rotation, wall).point_si - state.position_si;
-      impact_speeds_si_[i] = std::max(-wall.normal.dot(state.velocity_si + omega_n.cross(arm)), 0.0);
+      const Eigen::Vector3d arm = arm_to_wall(*shape_, state, rotation, wall);
+      impact_speeds_si_[i] = std::max(-normal_speed(state, omega_n, arm, wall), 0.0);
     }
   }
   return min_gap;

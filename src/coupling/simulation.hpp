@@ -196,7 +196,8 @@ class Simulation {
   std::unique_ptr<lbm::Solver> fluid_;
   std::unique_ptr<body::RigidBody> body_;
   BodyMarkers markers_;
-  /// The particle-wall contact model, when the case has contact walls (its state between steps, the impact speeds of contacts in progress, is checkpointed).
+  /// The particle-wall contact model, when the case has contact walls (its state between steps,
+  /// the impact speeds of contacts in progress, is checkpointed).
   std::optional<body::WallContact> contact_;
   /// Where the moving window holds the body (lattice coordinates): its starting place, so the
   /// case chooses how much fluid lies ahead of the body and how much wake behind it.
