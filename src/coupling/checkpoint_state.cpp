@@ -20,6 +20,9 @@ constexpr const char* kSimulationSection = "simulation/state";
 constexpr const char* kBodySection = "body/state";
 constexpr const char* kFluidSection = "fluid/state";
 constexpr const char* kPopulationsSection = "fluid/populations";
+// The momentum-exchange body's solid cells (absent from checkpoints of immersed-boundary runs and
+// from those written before the section existed: no solid cells).
+constexpr const char* kSolidCellsSection = "fluid/solid_cells";
 constexpr const char* kCallerValuesSection = "caller/values";
 constexpr std::string_view kCallerBlobPrefix = "caller/blob/";
 
@@ -42,6 +45,11 @@ FingerprintEntry number(std::string name, double value) {
 template <class Enum>
 FingerprintEntry choice(std::string name, Enum value) {
   return {std::move(name), static_cast<double>(static_cast<int>(value)), lbm::to_string(value)};
+}
+
+FingerprintEntry face_entry(std::string name, const std::optional<lbm::Face>& face) {
+  return {std::move(name), face ? static_cast<double>(2 * face->axis + face->side) : -1.0,
+          face ? lbm::to_string(*face) : "none"};
 }
 
 Fingerprint fingerprint_of(const Simulation& sim) {
@@ -75,6 +83,15 @@ Fingerprint fingerprint_of(const Simulation& sim) {
        s.motion == body::MotionKind::free ? "free" : s.motion == body::MotionKind::towed ? "towed" : "fixed"},
       number("particle mass (kg)", m.mass),
       number("particle volume (m^3)", m.volume),
+      {"coupling (numerics.coupling)", static_cast<double>(static_cast<int>(s.coupling)), to_string(s.coupling)},
+      {"wall rule (numerics.wall_rule)", static_cast<double>(static_cast<int>(s.wall_rule)),
+       s.wall_rule == lbm::WallRule::bouzidi ? "bouzidi" : "halfway"},
+      face_entry("inflow face", s.inflow),
+      number("inflow velocity x (lattice units)", c.inflow_velocity.x()),
+      number("inflow velocity y (lattice units)", c.inflow_velocity.y()),
+      number("inflow velocity z (lattice units)", c.inflow_velocity.z()),
+      face_entry("outflow face", s.outflow),
+      number("inflow ramp time (s)", s.inflow ? s.inflow_ramp_time_si.value_or(default_inflow_ramp_time_si(s)) : 0.0),
       number("surface markers", static_cast<double>(sim.derived().marker_count)),
       number("marker retraction (cells)", s.marker_retraction_cells),
       number("delta kernel", static_cast<double>(static_cast<int>(s.kernel))),
@@ -182,6 +199,21 @@ lbm::FluidState decode_fluid(std::span<const std::byte> data) {
   return f;
 }
 
+std::vector<std::byte> encode_solid_cells(const std::vector<std::uint64_t>& cells) {
+  io::RecordWriter out;
+  out.u64(cells.size());
+  for (const std::uint64_t n : cells) out.u64(n);
+  return out.take();
+}
+
+std::vector<std::uint64_t> decode_solid_cells(std::span<const std::byte> data) {
+  io::RecordReader in(data, kSolidCellsSection);
+  std::vector<std::uint64_t> cells;
+  for (std::uint64_t n = in.u64(); n > 0; --n) cells.push_back(in.u64());
+  in.expect_end();
+  return cells;
+}
+
 std::vector<std::byte> encode_values(const std::map<std::string, double>& values) {
   io::RecordWriter out;
   out.u64(values.size());
@@ -238,8 +270,7 @@ struct CheckpointAccess {
     out.vec3(sim.frame_.window_origin_si);
     out.f64(sim.frame_.dx_si);
     out.vec3(sim.window_anchor_);
-    out.vec3(sim.internal_before_.linear);
-    out.vec3(sim.internal_before_.angular);
+    for (const double v : sim.coupling_->carried_state()) out.f64(v);
     out.vec3(sim.virtual_inertia_.acceleration_si);
     out.vec3(sim.virtual_inertia_.angular_acceleration_b_si);
     write_wrench(out, sim.last_.hydrodynamic);
@@ -269,7 +300,7 @@ struct CheckpointAccess {
     double time_si = 0.0;
     LatticeFrame frame;
     Eigen::Vector3d window_anchor = Eigen::Vector3d::Zero();
-    FluidMomentum internal_before;
+    std::array<double, 6> coupling_carried{};
     Eigen::Vector3d acceleration_estimate_si = Eigen::Vector3d::Zero();
     Eigen::Vector3d angular_acceleration_estimate_b_si = Eigen::Vector3d::Zero();
     StepObservation last;
@@ -285,8 +316,7 @@ struct CheckpointAccess {
     s.frame.window_origin_si = in.vec3();
     s.frame.dx_si = in.f64();
     s.window_anchor = in.vec3();
-    s.internal_before.linear = in.vec3();
-    s.internal_before.angular = in.vec3();
+    for (double& v : s.coupling_carried) v = in.f64();
     s.acceleration_estimate_si = in.vec3();
     s.angular_acceleration_estimate_b_si = in.vec3();
     s.last.hydrodynamic = read_wrench(in);
@@ -314,7 +344,7 @@ struct CheckpointAccess {
     sim.steps_ = s.steps;
     sim.frame_ = s.frame;
     sim.window_anchor_ = s.window_anchor;
-    sim.internal_before_ = s.internal_before;
+    sim.coupling_->restore_carried_state(s.coupling_carried);
     sim.virtual_inertia_.acceleration_si = s.acceleration_estimate_si;
     sim.virtual_inertia_.angular_acceleration_b_si = s.angular_acceleration_estimate_b_si;
     sim.last_ = s.last;
@@ -338,6 +368,7 @@ void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller,
   writer.add_copy(kBodySection, encode_body(sim.body().state()));
   writer.add_copy(kFluidSection, encode_fluid(fluid));
   writer.add_view(kPopulationsSection, fluid.populations);
+  if (!fluid.solid_cells.empty()) writer.add_copy(kSolidCellsSection, encode_solid_cells(fluid.solid_cells));
   writer.add_copy(kCallerValuesSection, encode_values(caller.values));
   for (const auto& [name, blob] : caller.blobs) writer.add_view(std::string(kCallerBlobPrefix) + name, blob);
   writer.write(file);
@@ -368,6 +399,7 @@ void SimulationCheckpoint::restore(Simulation& sim) const {
   const body::RigidBodyState body = decode_body(file_.section(kBodySection));
   lbm::FluidState fluid = decode_fluid(file_.section(kFluidSection));
   fluid.populations = file_.section(kPopulationsSection);
+  if (file_.has(kSolidCellsSection)) fluid.solid_cells = decode_solid_cells(file_.section(kSolidCellsSection));
   if (!(fluid.layout == sim.fluid().export_state().layout))
     throw io::CheckpointError(fmt::format("{}: the fluid's memory layout differs from this build's (written by "
                                           "settle {}); restart with the settle that wrote it",

@@ -48,9 +48,14 @@ Sample take_sample(const Simulation& sim, double t_si) {
     s.contact = sim.last_step().contact;
     s.wall_gap_si = sim.last_step().wall_gap_si;
   }
-  // The far field: the driven flow around a fixed body; fluid at rest around a moving one.
-  s.relative_flow_si = sim.body().motion_kind() == body::MotionKind::fixed ? sim.superficial_velocity_si()
-                                                                          : Eigen::Vector3d(-state.velocity_si);
+  // The far field: the stream entering at an inlet, else the driven flow around a fixed body and
+  // fluid at rest around a moving one.
+  if (sim.setup().inflow) {
+    s.relative_flow_si = sim.setup().inflow_velocity_si - state.velocity_si;
+  } else {
+    s.relative_flow_si = sim.body().motion_kind() == body::MotionKind::fixed ? sim.superficial_velocity_si()
+                                                                            : Eigen::Vector3d(-state.velocity_si);
+  }
   s.reynolds = s.relative_flow_si.norm() * sim.derived().equivalent_diameter_si / sim.units().kinematic_viscosity_si();
   return s;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -119,12 +120,15 @@ body::VirtualInertia virtual_inertia_for(const body::RigidBody& body, double flu
 double expected_speed_si(const SimulationSetup& s) {
   const double d = s.shape->equivalent_diameter();
   const double rotation = s.initial.angular_velocity_b_si.norm() * s.shape->bounding_radius();
+  // A stream through an inlet adds its speed to whatever the body's motion drives.
+  const double stream = s.inflow ? s.inflow_velocity_si.norm() : 0.0;
   switch (s.motion) {
     case body::MotionKind::towed:
-      return s.initial.velocity_si.norm() + rotation;
+      return s.initial.velocity_si.norm() + rotation + stream;
     case body::MotionKind::fixed:
       return estimated_driven_speed_si(d, s.body_force_si.norm(), s.domain_size_si.prod(), s.fluid_density_si,
-                                       s.dynamic_viscosity_si);
+                                       s.dynamic_viscosity_si) +
+             stream;
     case body::MotionKind::free:
       break;
   }
@@ -133,7 +137,19 @@ double expected_speed_si(const SimulationSetup& s) {
   // stays below the larger (a body released at its terminal speed does not halve dt).
   const double terminal = estimated_terminal_speed_si(d, s.particle_density_si, s.fluid_density_si,
                                                       s.dynamic_viscosity_si, s.gravity_si.norm());
-  return std::max(terminal, s.initial.velocity_si.norm()) + rotation;
+  return std::max(terminal, s.initial.velocity_si.norm()) + rotation + stream;
+}
+
+double default_inflow_ramp_time_si(const SimulationSetup& s) {
+  const double speed = s.inflow_velocity_si.norm();
+  return speed > 0.0 ? 2.0 * s.shape->equivalent_diameter() / speed : 0.0;
+}
+
+Eigen::Vector3d inflow_velocity_at_si(const SimulationSetup& s, double t_si) {
+  const double ramp = s.inflow_ramp_time_si.value_or(default_inflow_ramp_time_si(s));
+  if (!(t_si < ramp)) return s.inflow_velocity_si;
+  const double phase = std::sin(0.5 * std::numbers::pi * t_si / ramp);
+  return s.inflow_velocity_si * phase * phase;
 }
 
 void SubstepTimers::add(const char* name, double seconds) {
@@ -169,17 +185,17 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
     derived_.release_step = static_cast<std::int64_t>(std::ceil(setup_.release_time_si / units_.dt_si() * (1.0 - 1e-12)));
   frame_.dx_si = units_.dx_si();
 
-  lbm::SolverConfig config;
-  config.lattice = setup_.lattice;
-  config.collision = setup_.collision;
-  config.precision = setup_.precision;
-  config.nx = derived_.cells[0];
-  config.ny = derived_.cells[1];
-  config.nz = derived_.cells[2];
-  config.boundaries = setup_.boundaries;
-  config.tau = units_.tau();
-  for (int a = 0; a < 3; ++a) config.body_force[a] = units_.force_density(setup_.body_force_si[a]);
+  const lbm::SolverConfig config = fluid_config();
   lbm::validate(config);
+
+  CouplingOptions options;
+  options.kind = setup_.coupling;
+  options.kernel = setup_.kernel;
+  options.forcing_iterations = setup_.forcing_iterations;
+  options.marker_retraction_cells = setup_.marker_retraction_cells;
+  options.interior_markers = setup_.interior_markers;
+  options.wall_rule = setup_.wall_rule;
+  coupling_ = make_coupling(setup_.shape, units_.dx_si(), options);
 
   // The body and its stencil must start inside the grid: checked before the grid is allocated.
   const Eigen::Vector3d centre = frame_.to_lattice(setup_.initial.position_si);
@@ -200,46 +216,76 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
                                             setup_.initial, setup_.motion);
   if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
-  markers_ = make_body_markers(shape, units_.dx_si(), setup_.marker_retraction_cells, setup_.interior_markers);
-  derived_.marker_count = markers_.size();
   make_wall_contact();
 
   fluid_ = lbm::make_solver(config);
   fluid_->initialise([](int, int, int) { return lbm::CellState{}; });
-  internal_before_ = internal_momentum(*fluid_, current_solid_cells(), centre);
+  ramp_inflow();
+  coupling_->start(*fluid_, lattice_pose({setup_.initial.position_si, setup_.initial.attitude}));
+  derived_.marker_count = coupling_->surface_element_count();
+}
+
+lbm::SolverConfig Simulation::fluid_config() const {
+  lbm::SolverConfig config;
+  config.lattice = setup_.lattice;
+  config.collision = setup_.collision;
+  config.precision = setup_.precision;
+  config.nx = derived_.cells[0];
+  config.ny = derived_.cells[1];
+  config.nz = derived_.cells[2];
+  config.boundaries = setup_.boundaries;
+  config.tau = units_.tau();
+  for (int a = 0; a < 3; ++a) config.body_force[a] = units_.force_density(setup_.body_force_si[a]);
+  if (setup_.inflow) {
+    config.open_faces.push_back({*setup_.inflow, lbm::Boundary::velocity});
+    config.inflow_velocity = lattice_velocity(setup_.inflow_velocity_si);
+  }
+  if (setup_.outflow) config.open_faces.push_back({*setup_.outflow, lbm::Boundary::outflow});
+  return config;
+}
+
+Eigen::Vector3d Simulation::lattice_velocity(const Eigen::Vector3d& velocity_si) const {
+  Eigen::Vector3d u;
+  for (int a = 0; a < 3; ++a) u[a] = units_.velocity(velocity_si[a]);
+  return u;
+}
+
+void Simulation::ramp_inflow() {
+  if (!setup_.inflow) return;
+  // The velocity of the coming step's streaming, at its end time.
+  const double t_si = static_cast<double>(steps_ + 1) * units_.dt_si();
+  fluid_->set_inflow_velocity(lattice_velocity(inflow_velocity_at_si(setup_, t_si)));
+}
+
+LatticePose Simulation::lattice_pose(const body::Pose& pose) const {
+  const double dt_si = units_.dt_si();
+  const auto& state = body_->state();
+  LatticePose p;
+  p.centre = frame_.to_lattice(pose.position_si);
+  p.body_to_inertial = pose.attitude.body_to_inertial();
+  p.velocity = state.velocity_si * dt_si / units_.dx_si();
+  p.angular_velocity_n = p.body_to_inertial * state.angular_velocity_b_si * dt_si;
+  return p;
 }
 
 CellBox Simulation::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
-  // The body's extent along each grid axis at this attitude (support function, lattice units),
-  // widened to every cell that the delta kernel of a point within that extent touches (first cell
-  // floor(x - h) + 1, `width` cells: ibm::axis_stencil). Markers lie on or inside the surface, so
-  // this holds their stencils, and every cell the body overlaps (the volume fractions). Tighter than
-  // the bounding sphere, so a tilted or flat body can come as close to a wall as its stencils allow.
-  const double h = ibm::support_half_width(setup_.kernel);
-  const int width = ibm::stencil_width(setup_.kernel);
-  CellBox box;
-  for (int a = 0; a < 3; ++a) {
-    const Eigen::Vector3d axis_b = body_to_inertial.row(a).transpose();
-    const double lower = centre[a] - setup_.shape->support(-axis_b) / units_.dx_si();
-    const double upper = centre[a] + setup_.shape->support(axis_b) / units_.dx_si();
-    const int first = static_cast<int>(std::floor(lower - h)) + 1;
-    const int last = static_cast<int>(std::floor(upper - h)) + width;
-    box.origin[static_cast<std::size_t>(a)] = first;
-    box.extent[static_cast<std::size_t>(a)] = last - first + 1;
-  }
-  return box;
+  return coupling_->box_at(centre, body_to_inertial);
 }
 
 void Simulation::make_wall_contact() {
   if (!setup_.wall_contact || setup_.follow_particle || setup_.motion != body::MotionKind::free) return;
   // Half-way walls: the faces of the grid, at 0 and cells x dx from the window's corner.
   std::vector<body::WallPlane> walls;
+  const auto open = [&](int axis, int side) {
+    const lbm::Face face{axis, side};
+    return (setup_.inflow && *setup_.inflow == face) || (setup_.outflow && *setup_.outflow == face);
+  };
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
     if (setup_.boundaries[i] == lbm::Boundary::periodic) continue;
     const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
-    walls.push_back({axis, frame_.window_origin_si[a]});
-    walls.push_back({-axis, -(frame_.window_origin_si[a] + derived_.cells[i] * units_.dx_si())});
+    if (!open(a, 0)) walls.push_back({axis, frame_.window_origin_si[a]});
+    if (!open(a, 1)) walls.push_back({-axis, -(frame_.window_origin_si[a] + derived_.cells[i] * units_.dx_si())});
   }
   if (walls.empty()) return;
   body::ContactParameters parameters;
@@ -283,54 +329,38 @@ void Simulation::step() {
     pose = body_->predict_pose(dt_si);
   }
 
-  ibm::Markers markers;
-  Eigen::Vector3d centre;
-  Eigen::Matrix3d rotation;
-  CellBox box;
   {
     ScopedTimer timer(timers_, "markers");
-    centre = frame_.to_lattice(pose.position_si);
-    rotation = pose.attitude.body_to_inertial();
-    const auto& state = body_->state();
-    const Eigen::Vector3d velocity = state.velocity_si * dt_si / units_.dx_si();
-    const Eigen::Vector3d omega_n = rotation * state.angular_velocity_b_si * dt_si;
-    markers = place_markers(markers_, centre, rotation, velocity, omega_n);
-    box = box_at(centre, rotation);
-    if (!box_fits(box, *fluid_)) throw std::logic_error("Simulation::step: the body left the grid (check can_step)");
+    const LatticePose placed = lattice_pose(pose);
+    if (!box_fits(box_at(placed.centre, placed.body_to_inertial), *fluid_))
+      throw std::logic_error("Simulation::step: the body left the grid (check can_step)");
+    coupling_->place(*fluid_, placed);
   }
-
-  ibm::ForcingResult forcing;
   {
     ScopedTimer timer(timers_, "forcing");
-    fluid_->clear_forces();
-    ibm::LocalGrid grid = gather(*fluid_, box);
-    forcing = ibm::multi_direct_forcing(grid, markers, {setup_.kernel, setup_.forcing_iterations});
-    scatter_forces(*fluid_, grid);
+    coupling_->impose(*fluid_);
   }
   {
     ScopedTimer timer(timers_, "fluid");
+    ramp_inflow();
     fluid_->step();
   }
   {
     ScopedTimer timer(timers_, "hydrodynamic_force");
-    const SolidCells cells = solid_cells(*setup_.shape, units_.dx_si(), box, centre, rotation);
-    const FluidMomentum internal_after = internal_momentum(*fluid_, cells, centre);
-    const LatticeWrench reaction = marker_reaction(markers, forcing.marker_force, centre);
-    const LatticeWrench w = hydrodynamic_wrench(reaction, internal_before_, internal_after);
-    const auto to_si = [&](const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
+    const CouplingForces forces = coupling_->measure(*fluid_);
+    const auto to_si = [&](const LatticeWrench& w) {
       body::Wrench si;
       for (int a = 0; a < 3; ++a) {
-        si.force_si[a] = units_.force_si(force[a]);
-        si.torque_si[a] = units_.torque_si(torque[a]);
+        si.force_si[a] = units_.force_si(w.force[a]);
+        si.torque_si[a] = units_.torque_si(w.torque[a]);
       }
       return si;
     };
-    last_.hydrodynamic = to_si(w.force, w.torque);
-    last_.marker_reaction = to_si(reaction.force, reaction.torque);
-    last_.internal_rate = to_si(internal_after.linear - internal_before_.linear, internal_after.angular - internal_before_.angular);
-    internal_before_ = internal_after;
-    last_.slip_max_si = units_.velocity_si(forcing.slip_max_after);
-    last_.slip_rms_si = units_.velocity_si(forcing.slip_rms_after);
+    last_.hydrodynamic = to_si(forces.total);
+    last_.marker_reaction = to_si(forces.surface);
+    last_.internal_rate = to_si(forces.internal_rate);
+    last_.slip_max_si = units_.velocity_si(forces.slip_max);
+    last_.slip_rms_si = units_.velocity_si(forces.slip_rms);
   }
   {
     ScopedTimer timer(timers_, "body_corrector");
@@ -373,10 +403,14 @@ Eigen::Vector3d Simulation::superficial_velocity_si() const {
   const lbm::VectorField u = fluid_->velocity_field();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t n = 0; n < u.x.size(); ++n) sum += Eigen::Vector3d(u.x[n], u.y[n], u.z[n]);
-  const SolidCells cells = current_solid_cells();
-  for (std::size_t n = 0; n < cells.cell.size(); ++n) {
-    const auto& c = cells.cell[n];
-    sum -= cells.alpha[n] * fluid_->cell_velocity(c[0], c[1], c[2]);
+  // Solid cells of a momentum-exchange body report zero velocity already; fluid inside an
+  // immersed boundary is taken out by its volume fractions.
+  if (coupling_->fluid_inside()) {
+    const SolidCells cells = current_solid_cells();
+    for (std::size_t n = 0; n < cells.cell.size(); ++n) {
+      const auto& c = cells.cell[n];
+      sum -= cells.alpha[n] * fluid_->cell_velocity(c[0], c[1], c[2]);
+    }
   }
   Eigen::Vector3d mean = sum / static_cast<double>(fluid_->cell_count());
   for (int a = 0; a < 3; ++a) mean[a] = units_.velocity_si(mean[a]);

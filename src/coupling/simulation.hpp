@@ -3,12 +3,17 @@
 // step (DESIGN.md section 1). The step's sub-steps, in order, each timed under its name:
 //
 //  1. body_predictor     pose at t + dt from the current velocities (RigidBody::predict_pose)
-//  2. markers            surface markers at that pose, with the body's current velocity there
-//  3. forcing            clear the previous step's force; gather the box of cells around the
-//                        body; multi-direct forcing (Luo et al. 2007; Breugem 2012); scatter
-//     fluid              collide (Guo forcing, second order) and stream
-//  4. hydrodynamic_force minus the marker forces plus the rate of change of the fluid momentum
-//                        inside the body (Kempe and Froehlich 2012), at the predicted pose
+//  2. markers            the body's surface at that pose, moving with the body's current
+//                        velocity: immersed-boundary markers, or momentum-exchange solid cells
+//                        and wall links (BodyCoupling::place, coupling/body_coupling.hpp)
+//  3. forcing            imposing it on the fluid (BodyCoupling::impose): multi-direct forcing
+//                        into the force array (Luo et al. 2007; Breugem 2012), or the refill of
+//                        uncovered cells and the new walls
+//     fluid              collide (Guo forcing, second order) and stream; walls inside the grid
+//                        closed by interpolated bounce-back
+//  4. hydrodynamic_force (BodyCoupling::measure) minus the marker forces plus the rate of change
+//                        of the fluid momentum inside the body (Kempe and Froehlich 2012), or the
+//                        momentum the wall links exchanged (Wen et al. 2014)
 //  5. body_corrector     Newton-Euler with that wrench, gravity and buoyancy (RigidBody::correct)
 //                        (a free body held before its release keeps its initial velocities),
 //                        stabilised for light bodies by a virtual mass and inertia (below), plus the
@@ -42,6 +47,7 @@
 #include "body/contact.hpp"
 #include "body/rigid_body.hpp"
 #include "body/shape.hpp"
+#include "coupling/body_coupling.hpp"
 #include "coupling/immersed_body.hpp"
 #include "coupling/units.hpp"
 #include "ibm/delta.hpp"
@@ -70,12 +76,22 @@ struct SimulationSetup {
 
   Eigen::Vector3d domain_size_si = Eigen::Vector3d::Constant(0.01);
   std::array<lbm::Boundary, 3> boundaries{lbm::Boundary::no_slip, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
+  /// A face where the fluid enters with inflow_velocity_si (a uniform stream), and one where it
+  /// leaves; each replaces the pair's kind on that face (lbm::OpenFace).
+  std::optional<lbm::Face> inflow;
+  Eigen::Vector3d inflow_velocity_si = Eigen::Vector3d::Zero();
+  std::optional<lbm::Face> outflow;
+  /// The fluid starts at rest and the inflow rises to inflow_velocity_si over this time (unset:
+  /// default_inflow_ramp_time_si).
+  std::optional<double> inflow_ramp_time_si;
   bool follow_particle = false;
 
   double cells_per_diameter = 16.0;
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
   lbm::Precision precision = lbm::Precision::float64;
+  CouplingKind coupling = CouplingKind::immersed_boundary;
+  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;
   double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md
@@ -110,7 +126,7 @@ struct DerivedQuantities {
   double galileo = 0.0;
   double equivalent_diameter_si = 0.0;
   std::array<int, 3> cells{};
-  std::size_t marker_count = 0;
+  std::size_t marker_count = 0;  ///< surface elements: markers, or wall links at the start
   /// A free body is held during the steps before this one (SimulationSetup::release_time_si).
   std::int64_t release_step = 0;
 };
@@ -120,6 +136,13 @@ struct DerivedQuantities {
 /// larger of the Schiller-Naumann terminal speed of the volume-equivalent sphere and the initial
 /// speed, plus rotation, for a free body.
 double expected_speed_si(const SimulationSetup& setup);
+
+/// The inflow's ramp when the case gives none: two passages of the stream over the body's
+/// equivalent diameter. Its pressure pulse, of order rho U^2 d / (U T) = rho U^2 / 2, stays far
+/// below the density check, where an impulsive start past a fixed body does not.
+double default_inflow_ramp_time_si(const SimulationSetup& setup);
+/// The inflow velocity at time t_si: U sin^2(pi t / (2 T)) during the ramp T, U after it.
+Eigen::Vector3d inflow_velocity_at_si(const SimulationSetup& setup, double t_si);
 
 /// Wall-clock seconds spent in each named sub-step, in step order.
 class SubstepTimers {
@@ -183,9 +206,15 @@ class Simulation {
   Eigen::Vector3d superficial_velocity_si() const;
   /// The solid cells of the body at its current pose (lattice units).
   SolidCells current_solid_cells() const;
+  const BodyCoupling& coupling() const { return *coupling_; }
 
  private:
   CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const;
+  LatticePose lattice_pose(const body::Pose& pose) const;
+  Eigen::Vector3d lattice_velocity(const Eigen::Vector3d& velocity_si) const;
+  /// Sets the inflow's velocity for the coming step (the ramp, then the case's value).
+  void ramp_inflow();
+  lbm::SolverConfig fluid_config() const;
   void make_wall_contact();
   void follow_body();
 
@@ -195,14 +224,13 @@ class Simulation {
   LatticeFrame frame_;
   std::unique_ptr<lbm::Solver> fluid_;
   std::unique_ptr<body::RigidBody> body_;
-  BodyMarkers markers_;
+  std::unique_ptr<BodyCoupling> coupling_;
   /// The particle-wall contact model, when the case has contact walls (its state between steps,
   /// the impact speeds of contacts in progress, is checkpointed).
   std::optional<body::WallContact> contact_;
   /// Where the moving window holds the body (lattice coordinates): its starting place, so the
   /// case chooses how much fluid lies ahead of the body and how much wake behind it.
   Eigen::Vector3d window_anchor_ = Eigen::Vector3d::Zero();
-  FluidMomentum internal_before_;
   /// The corrector's virtual mass and inertia (zero unless the body is free) with the last step's
   /// accelerations as the estimate for the next (docs/coupling.md, "Stability of light bodies").
   body::VirtualInertia virtual_inertia_;

@@ -129,6 +129,37 @@ CaseValues load_case(const std::filesystem::path& path, const std::vector<std::s
   return values;
 }
 
+namespace {
+
+// domain.inflow, domain.inflow_velocity and domain.outflow: each open face replaces the walls of
+// its axis on that face, so that axis must not be periodic.
+void read_open_faces(const CaseValues& v, coupling::SimulationSetup& s) {
+  const auto face = [&](const char* key) -> std::optional<lbm::Face> {
+    const std::string name = v.string(key);
+    if (name == "none") return std::nullopt;
+    const lbm::Face f = lbm::parse_face(name, key);
+    if (s.boundaries[static_cast<std::size_t>(f.axis)] == lbm::Boundary::periodic)
+      throw InputError(fmt::format("{}: face {} lies on an axis whose domain.walls.{} is \"periodic\"; an inlet or outlet "
+                                   "needs walls on its axis (\"no-slip\" or \"free-slip\")",
+                                   key, name, "xyz"[f.axis]));
+    return f;
+  };
+  s.inflow = face("domain.inflow");
+  s.outflow = face("domain.outflow");
+  if (s.inflow && s.outflow && *s.inflow == *s.outflow)
+    throw InputError("domain.outflow: the same face as domain.inflow; choose another face");
+  if (s.inflow.has_value() != v.has("domain.inflow_velocity"))
+    throw InputError(s.inflow ? "domain.inflow_velocity: required with domain.inflow (m/s, e.g. [0, 0, 0.05])"
+                              : "domain.inflow_velocity: only with domain.inflow (the face the stream enters by)");
+  if (s.inflow) s.inflow_velocity_si = vector3(v, "domain.inflow_velocity");
+  if (v.has("domain.inflow_ramp_time")) {
+    if (!s.inflow) throw InputError("domain.inflow_ramp_time: only with domain.inflow");
+    s.inflow_ramp_time_si = v.real("domain.inflow_ramp_time");
+  }
+}
+
+}  // namespace
+
 coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::filesystem::path& base_directory,
                                            std::string name) {
   coupling::SimulationSetup s;
@@ -147,6 +178,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   if (!v.has("domain.size")) throw InputError("domain.size: required (extent of the domain in m, e.g. [0.04, 0.04, 0.12])");
   s.domain_size_si = vector3(v, "domain.size");
   s.boundaries = {wall(v, "domain.walls.x"), wall(v, "domain.walls.y"), wall(v, "domain.walls.z")};
+  read_open_faces(v, s);
   s.follow_particle = v.boolean("domain.follow_particle");
 
   s.initial.position_si = v.has("particle.position") ? vector3(v, "particle.position") : Eigen::Vector3d(0.5 * s.domain_size_si);
@@ -179,6 +211,8 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.lattice = lbm::parse_lattice(v.string("numerics.lattice"), "numerics.lattice");
   s.collision = lbm::parse_collision(v.string("numerics.collision"), "numerics.collision");
   s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
+  s.coupling = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
+  s.wall_rule = v.string("numerics.wall_rule") == "halfway" ? lbm::WallRule::halfway : lbm::WallRule::bouzidi;
   s.kernel = ibm::delta_kernel_from_string(v.string("numerics.delta_kernel"), "numerics.delta_kernel");
   s.forcing_iterations = static_cast<int>(v.integer("numerics.forcing_iterations"));
   s.interior_markers = v.boolean("numerics.interior_markers");

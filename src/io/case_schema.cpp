@@ -33,6 +33,7 @@ KeySpec boolean(const char* path, bool def, const char* doc) {
 
 std::vector<KeySpec> declare() {
   const std::vector<std::string> walls{"no-slip", "free-slip", "periodic"};
+  const std::vector<std::string> faces{"none", "x-", "x+", "y-", "y+", "z-", "z+"};
   return {
       // [fluid]
       real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density (when given, overrides fluid.preset)"),
@@ -84,6 +85,15 @@ std::vector<KeySpec> declare() {
       choice("domain.walls.x", "no-slip", walls, "boundary of the two faces normal to x"),
       choice("domain.walls.y", "no-slip", walls, "boundary of the two faces normal to y"),
       choice("domain.walls.z", "no-slip", walls, "boundary of the two faces normal to z"),
+      choice("domain.inflow", "none", faces,
+             "face where a uniform stream enters with domain.inflow_velocity (a velocity inlet), e.g. \"z-\"; replaces "
+             "domain.walls on that face"),
+      vector3("domain.inflow_velocity", std::nullopt, "m/s", {}, "velocity of the stream entering at domain.inflow"),
+      real("domain.inflow_ramp_time", std::nullopt, "s", non_negative(),
+           "the inflow rises smoothly from rest to domain.inflow_velocity over this time (absent: 2 d_eq / |U|; 0: "
+           "an impulsive start)"),
+      choice("domain.outflow", "none", faces,
+             "face where the fluid leaves (zero normal gradient), e.g. \"z+\"; replaces domain.walls on that face"),
       boolean("domain.follow_particle", false, "moving window: the fluid window follows the particle"),
       // [numerics]
       real("numerics.cells_per_diameter", Value(16.0), "", closed(4.0, 256.0),
@@ -91,6 +101,12 @@ std::vector<KeySpec> declare() {
       choice("numerics.lattice", "D3Q19", {"D3Q19", "D3Q27"}, "lattice"),
       choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized"}, "collision model"),
       choice("numerics.precision", "double", {"double", "float"}, "storage precision of the populations"),
+      choice("numerics.coupling", "immersed_boundary", {"immersed_boundary", "momentum_exchange"},
+             "how the body meets the fluid: diffuse immersed boundary, or sharp-interface momentum exchange with "
+             "interpolated bounce-back (docs/coupling.md, Couplings)"),
+      choice("numerics.wall_rule", "bouzidi", {"bouzidi", "halfway"},
+             "momentum exchange: bounce-back interpolated at the true surface (bouzidi), or half-way on the cells' "
+             "faces (halfway, a staircase)"),
       choice("numerics.delta_kernel", "roma3", {"roma3", "peskin4"}, "immersed-boundary delta kernel"),
       integer("numerics.forcing_iterations", 3, closed(1, 50), "multi-direct forcing sweeps per step"),
       real("numerics.marker_retraction", std::nullopt, "cells", closed(0.0, 0.5),

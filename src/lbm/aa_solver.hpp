@@ -65,7 +65,8 @@ class AaSolver final : public Solver {
         layout_(make_layout(config.nx, config.ny, config.nz, sizeof(Real), Q)),
         populations_(layout_.pop_stride * Q),
         forced_flag_(cell_count(), 0),
-        lists_(build_copy_lists<L>(layout_, config.boundaries)) {
+        lists_(build_copy_lists<L>(layout_, face_kinds(config))),
+        inflow_velocity_(config.inflow_velocity) {
     for (auto& component : force_) component = AlignedArray<Real>(cell_count());
     rates_ = config.collision == CollisionKind::trt
                  ? trt_rates(config.tau, config.magic)
@@ -78,12 +79,17 @@ class AaSolver final : public Solver {
   int velocity_count() const override { return Q; }
 
   void step() override {
+    // Walls inside the grid close after the faces' fold (which brings periodic images home) and
+    // before their fill (which copies the closed values into the ghosts); see close_wall_links.
     if (odd_parity()) {
       run_kernel<true>();
-      apply(lists_.fold);
+      apply<true>(lists_.fold, lists_.fold_shifted);
+      close_wall_links<true>();
+      reset_solid_cells();
     } else {
       run_kernel<false>();
-      apply(lists_.fill);
+      close_wall_links<false>();
+      apply<false>(lists_.fill, lists_.fill_shifted);
     }
     ++steps_;
   }
@@ -129,6 +135,7 @@ class AaSolver final : public Solver {
   }
 
   CellState cell_state(int x, int y, int z) const override {
+    if (is_solid(x, y, z)) return {};
     double g[Q];
     gather_shifted(resolve(x, y, z), g);
     const auto F = cell_force(x, y, z);
@@ -146,15 +153,34 @@ class AaSolver final : public Solver {
   }
 
   void set_cell_populations(int x, int y, int z, std::span<const double> f) override {
-    if (odd_parity()) {
-      throw std::logic_error("set_cell_populations: only at an even step count (AA parity)");
-    }
     if (f.size() < static_cast<std::size_t>(Q)) {
       throw std::invalid_argument("set_cell_populations: span holds fewer than Q values");
     }
     const auto c = resolve(x, y, z);
     const std::size_t cell = layout_.index(c[0], c[1], c[2]);
-    for (int i = 0; i < Q; ++i) populations_[slot(i, cell)] = static_cast<Real>(f[i] - L::set.w[i]);
+    for (int i = 0; i < Q; ++i) {
+      // The slot gather_shifted reads f_i from at this parity (see there).
+      const std::size_t source = odd_parity() ? slot(opposite(i), upstream_of(cell, i)) : slot(i, cell);
+      populations_[source] = static_cast<Real>(f[i] - L::set.w[i]);
+    }
+  }
+
+  void refill_cell(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
+                   const std::optional<std::array<int, 3>>& donor) override {
+    double non_equilibrium[Q] = {};
+    if (donor) {
+      const auto d = resolve((*donor)[0], (*donor)[1], (*donor)[2]);
+      double g[Q];
+      gather_shifted(d, g);
+      const auto F = cell_force(d[0], d[1], d[2]);
+      const Macroscopic<L> m = macroscopic<L>(g, F.data());
+      for (int i = 0; i < Q; ++i) non_equilibrium[i] = g[i] - shifted_equilibrium<L>(i, m.drho, m.rho, m.ux, m.uy, m.uz);
+    }
+    double f[Q];
+    for (int i = 0; i < Q; ++i) {
+      f[i] = shifted_equilibrium<L>(i, rho - 1.0, rho, u.x(), u.y(), u.z()) + non_equilibrium[i] + L::set.w[i];
+    }
+    set_cell_populations(cell[0], cell[1], cell[2], std::span<const double>(f, Q));
   }
 
   std::vector<double> density_field() const override {
@@ -187,6 +213,7 @@ class AaSolver final : public Solver {
         row.max_density = -std::numeric_limits<double>::infinity();
         double max_u2 = -1.0;
         for (int x = 0; x < nx; ++x) {
+          if (solid_at(x, y, z)) continue;
           double g[Q];
           gather_shifted({x, y, z}, g);
           const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z), total_force(2, x, y, z)};
@@ -240,6 +267,30 @@ class AaSolver final : public Solver {
   }
   std::size_t forced_cell_count() const override { return forced_cells_.size(); }
 
+  void set_obstacle(const Obstacle& obstacle) override;
+  void set_inflow_velocity(const Eigen::Vector3d& velocity) override {
+    if (!velocity.allFinite() || velocity.norm() >= 0.3) {
+      throw std::invalid_argument("set_inflow_velocity: must be finite with magnitude below 0.3");
+    }
+    inflow_velocity_ = velocity;
+  }
+  const Eigen::Vector3d& inflow_velocity() const override { return inflow_velocity_; }
+  bool is_solid(int x, int y, int z) const override {
+    const auto c = resolve(x, y, z);
+    return solid_at(c[0], c[1], c[2]);
+  }
+  std::size_t solid_cell_count() const override { return solid_cells_.size(); }
+  std::vector<std::array<int, 3>> solid_cell_list() const override {
+    std::vector<std::array<int, 3>> cells;
+    cells.reserve(solid_cells_.size());
+    const std::size_t nx = static_cast<std::size_t>(config_.nx), ny = static_cast<std::size_t>(config_.ny);
+    for (const std::size_t n : solid_cells_) {
+      cells.push_back({static_cast<int>(n % nx), static_cast<int>(n / nx % ny), static_cast<int>(n / (nx * ny))});
+    }
+    return cells;
+  }
+  const std::vector<Eigen::Vector3d>& wall_momentum() const override { return wall_momentum_; }
+
   std::size_t bytes_per_cell_update() const override { return (2 * Q + 3) * sizeof(Real); }
 
   FluidState export_state() const override {
@@ -253,6 +304,7 @@ class AaSolver final : public Solver {
       state.forced_cells.push_back(n);
       for (const auto& component : force_) state.forced_values.push_back(static_cast<double>(component[n]));
     }
+    state.solid_cells.assign(solid_cells_.begin(), solid_cells_.end());
     return state;
   }
 
@@ -350,12 +402,28 @@ class AaSolver final : public Solver {
     }
   }
 
-  void apply(const std::vector<CopyEntry>& list) {
+  /// Applies a copy list after the kernel of the given parity. The velocity faces' entries add
+  /// their term times the density of their cell, the sum of its post-collision populations:
+  /// in its own slots after an even kernel, pushed to its neighbours (slot j at x + c_j) after an
+  /// odd one. Neither place is a destination of the lists.
+  template <bool Odd>
+  void apply(const std::vector<CopyEntry>& list, const std::vector<ShiftedCopyEntry>& shifted) {
     Real* const data = populations_.data();
     const std::size_t count = list.size();
     const CopyEntry* const entries = list.data();
 #pragma omp parallel for schedule(static) if (threaded_)
     for (std::size_t k = 0; k < count; ++k) data[entries[k].dst] = data[entries[k].src];
+    for (const ShiftedCopyEntry& e : shifted) {
+      double rho = 1.0;
+      for (int j = 0; j < Q; ++j) {
+        rho += static_cast<double>(data[slot(j, Odd ? static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.cell) +
+                                                                                  layout_.offset(L::set.c[j]))
+                                                        : e.cell)]);
+      }
+      const double term = e.wall_term[0] * inflow_velocity_[0] + e.wall_term[1] * inflow_velocity_[1] +
+                          e.wall_term[2] * inflow_velocity_[2];
+      data[e.dst] = static_cast<Real>(static_cast<double>(data[e.src]) + rho * term);
+    }
   }
 
   /// Interior coordinates after wrapping periodic axes; throws for others out of range.
@@ -378,14 +446,15 @@ class AaSolver final : public Solver {
   void gather_shifted(const std::array<int, 3>& c, double* g) const {
     const std::size_t cell = layout_.index(c[0], c[1], c[2]);
     if (odd_parity()) {
-      for (int i = 0; i < Q; ++i) {
-        const std::size_t upstream = static_cast<std::size_t>(
-            static_cast<std::ptrdiff_t>(cell) - layout_.offset(L::set.c[i]));
-        g[i] = static_cast<double>(populations_[slot(opposite(i), upstream)]);
-      }
+      for (int i = 0; i < Q; ++i) g[i] = static_cast<double>(populations_[slot(opposite(i), upstream_of(cell, i))]);
     } else {
       for (int i = 0; i < Q; ++i) g[i] = static_cast<double>(populations_[slot(i, cell)]);
     }
+  }
+
+  /// Padded index of the neighbour x - c_i of padded cell x (a ghost at the faces).
+  std::size_t upstream_of(std::size_t cell, int i) const {
+    return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(cell) - layout_.offset(L::set.c[i]));
   }
 
   std::array<double, 3> cell_force(int x, int y, int z) const {
@@ -405,6 +474,10 @@ class AaSolver final : public Solver {
     for (int z = 0; z < nz; ++z) {
       for (int y = 0; y < ny; ++y) {
         for (int x = 0; x < nx; ++x) {
+          if (solid_at(x, y, z)) {
+            visit(linear_index(x, y, z), Macroscopic<L>{0.0, 1.0, 0.0, 0.0, 0.0});
+            continue;
+          }
           double g[Q];
           gather_shifted({x, y, z}, g);
           const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z),
@@ -435,6 +508,101 @@ class AaSolver final : public Solver {
     return n;
   }
 
+  bool solid_at(int x, int y, int z) const {
+    return !solid_flag_.empty() && solid_flag_[linear_index(x, y, z)] != 0;
+  }
+
+  /// Interior cell x + d with periodic axes wrapped; false when it leaves a non-periodic axis.
+  bool wrapped(const std::array<int, 3>& x, const std::array<int, 3>& d, std::array<int, 3>& out) const {
+    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+    for (std::size_t a = 0; a < 3; ++a) {
+      out[a] = x[a] + d[a];
+      if (out[a] >= 0 && out[a] < extent[a]) continue;
+      if (config_.boundaries[a] != Boundary::periodic) return false;
+      out[a] = (out[a] + extent[a]) % extent[a];
+    }
+    return true;
+  }
+
+  /// A wall link in slot terms. The population coming back from the wall,
+  ///   f_back = a f*_i(x) + b f*_i(x - c_i) + c f*_opp(i)(x) + wall,
+  /// goes where the next kernel reads f_opp(i)(x) (docs/lbm.md, "Walls inside the grid").
+  struct PreparedLink {
+    std::size_t fluid = 0;   ///< padded index of the fluid cell x
+    std::size_t solid = 0;   ///< padded index of x + c_i, periodic axes wrapped
+    std::size_t second = 0;  ///< padded index of x - c_i, wrapped (read only when b != 0)
+    std::size_t behind = 0;  ///< padded index of x - c_i unwrapped: where the odd kernel puts f*_opp(i)(x)
+    int dir = 0;
+    double a = 1.0, b = 0.0, c = 0.0, wall = 0.0;
+    Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
+  };
+
+  PreparedLink prepare_link(const WallLink& link, WallRule rule) const;
+  /// The solid cells move with the content in a window shift (those leaving the grid are
+  /// dropped); the links are dropped, to be set again at the obstacle's new place.
+  void shift_solid_cells(int axis, int sign) {
+    if (solid_cells_.empty()) return;
+    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+    std::vector<std::size_t> moved;
+    for (const std::size_t n : solid_cells_) {
+      std::array<int, 3> c{static_cast<int>(n % static_cast<std::size_t>(extent[0])),
+                           static_cast<int>(n / static_cast<std::size_t>(extent[0]) % static_cast<std::size_t>(extent[1])),
+                           static_cast<int>(n / (static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1])))};
+      c[static_cast<std::size_t>(axis)] -= sign;
+      if (c[static_cast<std::size_t>(axis)] < 0 || c[static_cast<std::size_t>(axis)] >= extent[static_cast<std::size_t>(axis)]) continue;
+      moved.push_back(linear_index(c[0], c[1], c[2]));
+    }
+    std::sort(moved.begin(), moved.end());
+    set_solid_cells(std::move(moved));
+  }
+  void set_solid_cells(std::vector<std::size_t> cells);
+
+  /// Closes every wall link after the kernel of the given parity and records its momentum
+  /// exchange. After an even kernel f*_j(y) sits in slot opp(j) at y and the odd kernel of x will
+  /// read f_opp(i)(x) from slot i at x + c_i (a solid cell); after an odd kernel f*_i(x) sits in
+  /// slot i at x + c_i, f*_i(x - c_i) in slot i at x, f*_opp(i)(x) in slot opp(i) at x - c_i, and
+  /// the even kernel reads f_opp(i)(x) from slot opp(i) at x. No link writes a slot another
+  /// reads (writes go to solid cells after an even kernel, reads to fluid ones; after an odd
+  /// one the written slot opp(i) at x would be read only by a link from x + c_i, a solid cell).
+  template <bool Odd>
+  void close_wall_links() {
+    Real* const A = populations_.data();
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(links_.size());
+#pragma omp parallel for schedule(static) if (threaded_ && count > 4096)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+      const PreparedLink& l = links_[static_cast<std::size_t>(k)];
+      const int i = l.dir, o = opposite(i);
+      const std::size_t in_slot = Odd ? slot(i, l.solid) : slot(o, l.fluid);
+      const std::size_t out_slot = Odd ? slot(o, l.fluid) : slot(i, l.solid);
+      const double f_in = static_cast<double>(A[in_slot]);
+      const double f_second = l.b != 0.0 ? static_cast<double>(Odd ? A[slot(i, l.fluid)] : A[slot(o, l.second)]) : 0.0;
+      const double f_opposite = l.c != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.behind)] : A[slot(i, l.fluid)]) : 0.0;
+      const Real back = static_cast<Real>(l.a * f_in + l.b * f_second + l.c * f_opposite + l.wall);
+      A[out_slot] = back;
+      // Shifted storage holds f - w: the momentum needs f itself.
+      const double w = L::set.w[i];
+      const double f_out = f_in + w, f_back = static_cast<double>(back) + w;
+      const auto& c = L::set.c[i];
+      wall_momentum_[static_cast<std::size_t>(k)] =
+          Eigen::Vector3d(c[0], c[1], c[2]) * (f_out + f_back) - l.wall_velocity * (f_out - f_back);
+    }
+  }
+
+  /// Sets the solid cells to rest (stored 0), so that what streams into them from the fluid
+  /// does not pile up over the run. After the odd step's links have read their slots.
+  void reset_solid_cells() {
+    Real* const A = populations_.data();
+    for (const std::size_t n : solid_cells_) {
+      const std::size_t cell = padded_of_linear(n);
+      for (int q = 0; q < Q; ++q) A[slot(q, cell)] = Real(0);
+    }
+  }
+
+  std::size_t padded_of_linear(std::size_t n) const {
+    const std::size_t nx = static_cast<std::size_t>(config_.nx), ny = static_cast<std::size_t>(config_.ny);
+    return layout_.index(static_cast<int>(n % nx), static_cast<int>(n / nx % ny), static_cast<int>(n / (nx * ny)));
+  }
+
   StateLayout state_layout() const {
     return {config_.nx,   config_.ny, config_.nz,  Q,
             static_cast<std::uint32_t>(sizeof(Real)), layout_.x_begin, layout_.sx, layout_.sxy,
@@ -448,6 +616,13 @@ class AaSolver final : public Solver {
   std::vector<std::uint8_t> forced_flag_;
   std::vector<std::size_t> forced_cells_;
   CopyLists lists_;
+  Eigen::Vector3d inflow_velocity_;
+  // The obstacle: solid cells (flag per interior cell, allocated with the first obstacle, and
+  // their linear indices in ascending order), its links and their last momentum exchange.
+  std::vector<std::uint8_t> solid_flag_;
+  std::vector<std::size_t> solid_cells_;
+  std::vector<PreparedLink> links_;
+  std::vector<Eigen::Vector3d> wall_momentum_;
   RelaxationRates rates_;
   std::int64_t steps_ = 0;
   /// Below ~16 k cells a step costs less than waking the OpenMP team (and far less than a
@@ -470,6 +645,11 @@ void AaSolver<L, Collision, Real>::import_state(const FluidState& state) {
   if (state.forced_values.size() != 3 * state.forced_cells.size()) {
     throw std::invalid_argument("import_state: forced_values must hold three values per forced cell");
   }
+  for (std::size_t k = 0; k < state.solid_cells.size(); ++k) {
+    if (state.solid_cells[k] >= cell_count() || (k > 0 && state.solid_cells[k] <= state.solid_cells[k - 1])) {
+      throw std::invalid_argument("import_state: solid cells must be ascending interior cell indices");
+    }
+  }
   std::vector<std::uint8_t> seen(cell_count(), 0);
   for (const std::uint64_t n : state.forced_cells) {
     if (n >= cell_count() || seen[n]) {
@@ -487,6 +667,87 @@ void AaSolver<L, Collision, Real>::import_state(const FluidState& state) {
     forced_cells_.push_back(n);
     for (std::size_t a = 0; a < 3; ++a) force_[a][n] = static_cast<Real>(state.forced_values[3 * k + a]);
   }
+  set_solid_cells(std::vector<std::size_t>(state.solid_cells.begin(), state.solid_cells.end()));
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::set_solid_cells(std::vector<std::size_t> cells) {
+  for (const std::size_t n : solid_cells_) solid_flag_[n] = 0;
+  links_.clear();
+  wall_momentum_.clear();
+  solid_cells_ = std::move(cells);
+  if (solid_cells_.empty()) return;
+  if (solid_flag_.empty()) solid_flag_.assign(cell_count(), 0);
+  for (const std::size_t n : solid_cells_) solid_flag_[n] = 1;
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::set_obstacle(const Obstacle& obstacle) {
+  std::vector<std::size_t> cells;
+  cells.reserve(obstacle.solid_cells.size());
+  for (const auto& cell : obstacle.solid_cells) {
+    const auto c = resolve(cell[0], cell[1], cell[2]);
+    cells.push_back(linear_index(c[0], c[1], c[2]));
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  // A free-slip or outflow face copies populations from cells of its own layer, which would
+  // carry a solid cell's scratch into the fluid; walls and inlets copy only within a cell.
+  const FaceKinds kinds = face_kinds(config_);
+  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+  for (const auto& cell : obstacle.solid_cells) {
+    const auto c = resolve(cell[0], cell[1], cell[2]);
+    for (std::size_t a = 0; a < 3; ++a) {
+      for (const int side : {0, 1}) {
+        const Boundary kind = kinds[a][static_cast<std::size_t>(side)];
+        if ((kind == Boundary::free_slip || kind == Boundary::outflow) && c[a] == (side == 0 ? 0 : extent[a] - 1)) {
+          throw std::invalid_argument("set_obstacle: a solid cell lies on a free-slip or outflow face");
+        }
+      }
+    }
+  }
+  set_solid_cells(std::move(cells));
+  std::vector<PreparedLink> prepared;
+  prepared.reserve(obstacle.links.size());
+  for (const WallLink& link : obstacle.links) prepared.push_back(prepare_link(link, obstacle.rule));
+  links_ = std::move(prepared);
+  wall_momentum_.assign(links_.size(), Eigen::Vector3d::Zero());
+}
+
+template <Lattice L, class Collision, class Real>
+typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>::prepare_link(const WallLink& link,
+                                                                                               WallRule rule) const {
+  if (link.dir < 1 || link.dir >= Q) throw std::invalid_argument("set_obstacle: link direction out of range");
+  if (!(link.q > 0.0 && link.q <= 1.0)) throw std::invalid_argument("set_obstacle: link fraction q outside (0, 1]");
+  const auto x = resolve(link.cell[0], link.cell[1], link.cell[2]);
+  const auto& c = L::set.c[link.dir];
+  std::array<int, 3> wall_cell{}, second_cell{};
+  if (solid_at(x[0], x[1], x[2]) || !wrapped(x, c, wall_cell) || !solid_at(wall_cell[0], wall_cell[1], wall_cell[2])) {
+    throw std::invalid_argument("set_obstacle: a link must lead from a fluid cell to a solid one");
+  }
+  const bool has_second = wrapped(x, {-c[0], -c[1], -c[2]}, second_cell) &&
+                          !solid_at(second_cell[0], second_cell[1], second_cell[2]);
+  PreparedLink p;
+  p.fluid = layout_.index(x[0], x[1], x[2]);
+  p.solid = layout_.index(wall_cell[0], wall_cell[1], wall_cell[2]);
+  p.second = has_second ? layout_.index(second_cell[0], second_cell[1], second_cell[2]) : p.fluid;
+  p.behind = upstream_of(p.fluid, link.dir);
+  p.dir = link.dir;
+  p.wall_velocity = link.wall_velocity;
+  // Ladd's moving-wall term -2 w_i rho_0 c_i.u_w / cs^2 at rho_0 = 1, scaled like f*_i(x).
+  const double moving = -6.0 * L::set.w[link.dir] * (c[0] * link.wall_velocity[0] + c[1] * link.wall_velocity[1] +
+                                                     c[2] * link.wall_velocity[2]);
+  const double q = link.q;
+  if (rule == WallRule::halfway || (q < 0.5 && !has_second)) {
+    // Without the second node the q < 1/2 interpolation has nothing to lean on: half-way
+    // bounce-back there (first order at that link only).
+    p.a = 1.0, p.b = 0.0, p.c = 0.0, p.wall = moving;
+  } else if (q < 0.5) {
+    p.a = 2.0 * q, p.b = 1.0 - 2.0 * q, p.c = 0.0, p.wall = moving;
+  } else {
+    p.a = 0.5 / q, p.b = 0.0, p.c = (2.0 * q - 1.0) / (2.0 * q), p.wall = moving / (2.0 * q);
+  }
+  return p;
 }
 
 template <Lattice L, class Collision, class Real>
@@ -549,7 +810,8 @@ ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {
     }
   }
   // At an odd parity the ghost slots hold copies of the old interior: rebuild them.
-  if (odd_parity()) apply(lists_.fill);
+  if (odd_parity()) apply<false>(lists_.fill, lists_.fill_shifted);
+  shift_solid_cells(axis, sign);
   return {layer_cells + leaving_sum, layer_cells};
 }
 

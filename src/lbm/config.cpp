@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/error.hpp"
@@ -11,6 +12,39 @@ namespace settle::lbm {
 
 double viscosity_from_tau(double tau) { return cs2 * (tau - 0.5); }
 double tau_from_viscosity(double nu) { return nu / cs2 + 0.5; }
+
+namespace {
+
+void validate_open_faces(const SolverConfig& config) {
+  std::vector<Face> seen;
+  for (const OpenFace& open : config.open_faces) {
+    const Face& f = open.face;
+    if (f.axis < 0 || f.axis > 2 || f.side < 0 || f.side > 1) {
+      throw InputError(fmt::format("lbm.open_faces: axis must be 0-2 and side 0 or 1, got {} and {}", f.axis, f.side));
+    }
+    const std::string name = to_string(f);
+    if (open.kind != Boundary::velocity && open.kind != Boundary::outflow) {
+      throw InputError(fmt::format("lbm.open_faces: face {} must be velocity or outflow, got {}", name,
+                                   to_string(open.kind)));
+    }
+    if (config.boundaries[static_cast<std::size_t>(f.axis)] == Boundary::periodic) {
+      throw InputError(fmt::format("lbm.open_faces: face {} lies on a periodic axis; an inlet or outlet needs a "
+                                   "non-periodic axis",
+                                   name));
+    }
+    if (std::find(seen.begin(), seen.end(), f) != seen.end()) {
+      throw InputError(fmt::format("lbm.open_faces: face {} is given twice", name));
+    }
+    seen.push_back(f);
+  }
+  // Mach 0.5: beyond it the second-order equilibrium of the inlet is far from the flow's.
+  if (!config.inflow_velocity.allFinite() || config.inflow_velocity.norm() >= 0.3) {
+    throw InputError(fmt::format("lbm.inflow_velocity: must be finite with magnitude below 0.3, got {}",
+                                 config.inflow_velocity.norm()));
+  }
+}
+
+}  // namespace
 
 void validate(const SolverConfig& config) {
   const auto check_extent = [](int n, const char* name) {
@@ -28,6 +62,30 @@ void validate(const SolverConfig& config) {
   if (!config.body_force.allFinite()) {
     throw InputError("lbm.body_force: must be finite");
   }
+  validate_open_faces(config);
+}
+
+FaceKinds face_kinds(const SolverConfig& config) {
+  FaceKinds kinds{};
+  for (std::size_t a = 0; a < 3; ++a) kinds[a] = {config.boundaries[a], config.boundaries[a]};
+  for (const OpenFace& open : config.open_faces) {
+    kinds[static_cast<std::size_t>(open.face.axis)][static_cast<std::size_t>(open.face.side)] = open.kind;
+  }
+  return kinds;
+}
+
+std::string to_string(const Face& face) {
+  return fmt::format("{}{}", "xyz"[face.axis], face.side == 0 ? '-' : '+');
+}
+
+Face parse_face(const std::string& name, const std::string& what) {
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const Face face{axis, side};
+      if (name == to_string(face)) return face;
+    }
+  }
+  throw InputError(fmt::format("{}: must be one of x-, x+, y-, y+, z-, z+, got '{}'", what, name));
 }
 
 std::string to_string(LatticeKind kind) {
@@ -50,6 +108,8 @@ std::string to_string(Boundary kind) {
     case Boundary::periodic: return "periodic";
     case Boundary::no_slip: return "no-slip";
     case Boundary::free_slip: return "free-slip";
+    case Boundary::velocity: return "velocity";
+    case Boundary::outflow: return "outflow";
   }
   return "?";
 }

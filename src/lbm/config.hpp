@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <string>
+#include <vector>
 
 namespace settle::lbm {
 
@@ -20,8 +21,25 @@ enum class CollisionKind { bgk, trt, recursive_regularized };
 /// Storage type of the populations and of the per-cell force (arithmetic is double).
 enum class Precision { float32, float64 };
 
-/// Boundary condition of one pair of opposite faces.
-enum class Boundary { periodic, no_slip, free_slip };
+/// Boundary condition of a face. The first three are set per pair of opposite faces
+/// (SolverConfig::boundaries); the open kinds replace that on one face (SolverConfig::open_faces):
+/// - velocity: an inlet of prescribed velocity, bounce-back from a wall moving with it (Ladd 1994);
+/// - outflow: the unknown populations copied from the next cell inwards (zero normal gradient).
+enum class Boundary { periodic, no_slip, free_slip, velocity, outflow };
+
+/// One face of the box: `axis` 0-2 and `side` 0 (the lower face, at coordinate -1/2) or 1 (the
+/// upper face, at n - 1/2).
+struct Face {
+  int axis = 2;
+  int side = 0;
+  bool operator==(const Face&) const = default;
+};
+
+/// A face whose kind replaces the pair's: Boundary::velocity or Boundary::outflow.
+struct OpenFace {
+  Face face;
+  Boundary kind = Boundary::outflow;
+};
 
 /// Everything the factory needs. Axis order of `boundaries` is x, y, z.
 struct SolverConfig {
@@ -30,12 +48,23 @@ struct SolverConfig {
   Precision precision = Precision::float64;
   int nx = 32, ny = 32, nz = 32;  ///< interior cells per axis
   std::array<Boundary, 3> boundaries{Boundary::periodic, Boundary::periodic, Boundary::periodic};
+  /// Inlets and outlets, each on a face of a non-periodic axis (at most one entry per face).
+  std::vector<OpenFace> open_faces;
+  /// Velocity of every velocity face (lattice units; |u| below 0.3 for a Mach number under 0.5).
+  Eigen::Vector3d inflow_velocity = Eigen::Vector3d::Zero();
   double tau = 0.8;  ///< relaxation time of the shear viscosity, nu = cs^2 (tau - 1/2)
   /// TRT magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2). 3/16 puts half-way bounce-back
   /// walls exactly mid-way between nodes for any viscosity (Ginzburg et al. 2008).
   double magic = 3.0 / 16.0;
   Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  ///< uniform force density
 };
+
+/// The kind of each face, [axis][side]: the pair's kind unless an open face replaces it.
+using FaceKinds = std::array<std::array<Boundary, 2>, 3>;
+FaceKinds face_kinds(const SolverConfig& config);
+/// "x-", "x+", "y-", ... for a face; parse_face reads them (settle::InputError naming `what`).
+std::string to_string(const Face& face);
+Face parse_face(const std::string& name, const std::string& what);
 
 /// Kinematic viscosity of relaxation time tau, nu = cs^2 (tau - 1/2).
 double viscosity_from_tau(double tau);

@@ -43,64 +43,100 @@ struct GridLayout {
 /// Layout for Q populations of `element_bytes` bytes each.
 GridLayout make_layout(int nx, int ny, int nz, std::size_t element_bytes, int q_count);
 
-/// One element copy buf[dst] = buf[src], both absolute element indices in the population
-/// buffer (q * pop_stride + cell).
-struct CopyEntry {
-  std::size_t dst;
-  std::size_t src;
-};
-
 /// A population f_i(x) as "direction i at interior cell x".
 struct Link {
   std::array<int, 3> cell;
   int dir;
 };
 
+/// Where the incoming population of a boundary link comes from: f_i(x) = f*_dir(cell) + added.
+struct PullSource {
+  Link link;
+  /// Velocity faces: f_i(x) = f*_dir(cell) + rho(x) wall_term.u_w, rho(x) the density of x and
+  /// u_w the inflow velocity; zero elsewhere.
+  std::array<double, 3> wall_term{};
+  bool moving = false;
+};
+
 /// Pull resolution of a link whose upstream cell x - c_i lies outside the domain: the
-/// post-collision population f*_dir(cell) that streams into f_i(x). Axis by axis: a no-slip
-/// axis out of range makes the link a half-way bounce-back, (x, opp(i)) (no-slip wins at
-/// edges and corners shared with other kinds); a periodic axis wraps; a free-slip axis is
-/// mirrored (the source cell keeps x's coordinate on that axis) and the direction's
-/// component on that axis is reflected (specular reflection at the half-way wall).
-/// The map is a bijection between incoming and outgoing boundary links with the same set of
-/// out-of-range axes, so the copies conserve mass.
+/// post-collision population f*_dir(cell) that streams into f_i(x), plus a constant. Each
+/// out-of-range axis names a face (its lower or upper side) and that face's kind:
+///  - a no-slip face makes the link a half-way bounce-back, (x, opp(i)); no-slip wins at edges
+///    and corners shared with other kinds;
+///  - otherwise a velocity face makes it a bounce-back from a wall moving with the inflow
+///    velocity u_w, f_i(x) = f*_opp(i)(x) + 6 w_i rho(x) c_i.u_w (Ladd 1994, J. Fluid Mech. 271,
+///    285, doi:10.1017/S0022112094001771, with the cell's own density so that the face imposes
+///    the velocity whatever the density level); velocity wins over the kinds below;
+///  - otherwise axis by axis: a periodic axis wraps; a free-slip axis is mirrored (the source
+///    cell keeps x's coordinate on that axis) and the direction's component on that axis is
+///    reflected (specular reflection at the half-way wall); an outflow axis is mirrored without
+///    reflection, so f_i(x) = f_i(x - n) after streaming, n the face's outward normal (zero
+///    normal gradient of every unknown population; Junk and Yang 2008 discuss its accuracy).
+/// Without open faces the map is a bijection between incoming and outgoing links with the same
+/// set of out-of-range axes, so the copies conserve mass; inlets and outlets exchange mass with
+/// the outside by design.
 template <Lattice L>
-Link pull_source(const std::array<int, 3>& x, int i, const std::array<int, 3>& extent,
-                 const std::array<Boundary, 3>& boundaries) {
+PullSource pull_source(const std::array<int, 3>& x, int i, const std::array<int, 3>& extent, const FaceKinds& kinds) {
   std::array<int, 3> p{};
   std::array<int, 3> d = L::set.c[i];
-  for (int a = 0; a < 3; ++a) {
+  std::array<const Boundary*, 3> face{};  // the kind of the face each out-of-range axis crosses
+  bool bounce = false, moving = false;
+  for (std::size_t a = 0; a < 3; ++a) {
     p[a] = x[a] - d[a];
-    if ((p[a] < 0 || p[a] >= extent[a]) && boundaries[a] == Boundary::no_slip) {
-      return {x, opposite(i)};
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
     if (p[a] >= 0 && p[a] < extent[a]) continue;
-    if (boundaries[a] == Boundary::periodic) {
+    face[a] = &kinds[a][p[a] < 0 ? 0 : 1];
+    bounce |= *face[a] == Boundary::no_slip;
+    moving |= *face[a] == Boundary::velocity;
+  }
+  if (bounce) return {{x, opposite(i)}, {}, false};
+  if (moving) {
+    const double weight = 6.0 * L::set.w[i];
+    return {{x, opposite(i)}, {weight * d[0], weight * d[1], weight * d[2]}, true};
+  }
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!face[a]) continue;
+    if (*face[a] == Boundary::periodic) {
       p[a] = (p[a] + extent[a]) % extent[a];
-    } else {  // free slip
+    } else {  // free slip or outflow
       p[a] = x[a];
-      d[a] = -d[a];
+      if (*face[a] == Boundary::free_slip) d[a] = -d[a];
     }
   }
-  return {p, direction_index<L>(d[0], d[1], d[2])};
+  return {{p, direction_index<L>(d[0], d[1], d[2])}, {}, false};
 }
 
-/// The two copy lists of the AA scheme (see docs/lbm.md, "AA pattern"):
+/// One element copy buf[dst] = buf[src] (+ rho(cell) wall_term.u_w, for the velocity faces'
+/// lists), both absolute element indices in the population buffer (q * pop_stride + cell).
+struct CopyEntry {
+  std::size_t dst;
+  std::size_t src;
+};
+struct ShiftedCopyEntry {
+  std::size_t dst;
+  std::size_t src;
+  std::array<double, 3> wall_term;  ///< 6 w_i c_i
+  std::size_t cell;                 ///< padded index of the link's cell (its populations give the density)
+};
+
+/// The copy lists of the AA scheme (see docs/lbm.md, "AA pattern"):
 ///  - fill: applied after an even step. For every boundary link (x, i) it writes the ghost
 ///    slot that the odd kernel of x will read for f_i, slot opp(i) at x - c_i, from the slot
 ///    holding the source population f*_j(y) after the even step, slot opp(j) at y.
 ///  - fold: applied after an odd step. The odd kernel of y wrote f*_j(y) into slot j at the
 ///    ghost y + c_j; the fold copies it to the slot the even kernel of x reads for f_i,
 ///    slot i at x.
+/// The links of velocity faces, whose copies add a constant, are in the shifted lists.
+/// No entry's source is another entry's destination (sources are interior slots after an even
+/// step and slots the odd kernel wrote after an odd one), so each list applies in any order.
 struct CopyLists {
   std::vector<CopyEntry> fill;
   std::vector<CopyEntry> fold;
+  std::vector<ShiftedCopyEntry> fill_shifted;
+  std::vector<ShiftedCopyEntry> fold_shifted;
 };
 
 template <Lattice L>
-CopyLists build_copy_lists(const GridLayout& layout, const std::array<Boundary, 3>& boundaries) {
+CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
   CopyLists lists;
   const std::array<int, 3> extent{layout.nx, layout.ny, layout.nz};
   const auto slot = [&](int q, const std::array<int, 3>& cell) {
@@ -123,17 +159,33 @@ CopyLists build_copy_lists(const GridLayout& layout, const std::array<Boundary, 
           bool outside = false;
           for (int a = 0; a < 3; ++a) outside |= upstream[a] < 0 || upstream[a] >= extent[a];
           if (!outside) continue;
-          const Link src = pull_source<L>(x, i, extent, boundaries);
-          const auto& cj = L::set.c[src.dir];
-          const std::array<int, 3> src_ghost{src.cell[0] + cj[0], src.cell[1] + cj[1],
-                                             src.cell[2] + cj[2]};
-          lists.fill.push_back({slot(opposite(i), upstream), slot(opposite(src.dir), src.cell)});
-          lists.fold.push_back({slot(i, x), slot(src.dir, src_ghost)});
+          const PullSource src = pull_source<L>(x, i, extent, kinds);
+          const auto& cj = L::set.c[src.link.dir];
+          const std::array<int, 3> src_ghost{src.link.cell[0] + cj[0], src.link.cell[1] + cj[1],
+                                             src.link.cell[2] + cj[2]};
+          const std::size_t fill_dst = slot(opposite(i), upstream), fill_src = slot(opposite(src.link.dir), src.link.cell);
+          const std::size_t fold_dst = slot(i, x), fold_src = slot(src.link.dir, src_ghost);
+          if (src.moving) {
+            const std::size_t cell = layout.index(x[0], x[1], x[2]);
+            lists.fill_shifted.push_back({fill_dst, fill_src, src.wall_term, cell});
+            lists.fold_shifted.push_back({fold_dst, fold_src, src.wall_term, cell});
+          } else {
+            lists.fill.push_back({fill_dst, fill_src});
+            lists.fold.push_back({fold_dst, fold_src});
+          }
         }
       }
     }
   }
   return lists;
+}
+
+/// The lists for walls of one kind per pair of faces (no open faces).
+template <Lattice L>
+CopyLists build_copy_lists(const GridLayout& layout, const std::array<Boundary, 3>& boundaries) {
+  return build_copy_lists<L>(layout, FaceKinds{{{boundaries[0], boundaries[0]},
+                                                {boundaries[1], boundaries[1]},
+                                                {boundaries[2], boundaries[2]}}});
 }
 
 }  // namespace settle::lbm

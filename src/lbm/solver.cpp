@@ -49,6 +49,11 @@ double derivative(const Solver& solver, const std::vector<double>& field, int ax
 
 }  // namespace
 
+std::span<const std::array<int, 3>> velocity_set(LatticeKind kind) {
+  if (kind == LatticeKind::D3Q27) return D3Q27::set.c;
+  return D3Q19::set.c;
+}
+
 std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
   validate(config);
   if (config.lattice == LatticeKind::D3Q27) return make_with_collision<D3Q27>(config);

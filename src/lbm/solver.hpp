@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -76,6 +77,35 @@ struct FluidState {
   /// (x, y, z). Doubles hold float storage exactly, so the round trip is exact at either precision.
   std::vector<std::uint64_t> forced_cells;
   std::vector<double> forced_values;
+  /// The obstacle's solid cells (linear index, ascending). Its links are not state: the owner of
+  /// the obstacle sets them again before the next step.
+  std::vector<std::uint64_t> solid_cells;
+};
+
+/// A link from fluid cell `cell` along direction `dir` to a solid cell of an obstacle, the wall
+/// crossing the link at the fraction q in (0, 1] of its length from the fluid cell's centre and
+/// moving there with `wall_velocity` (lattice units).
+struct WallLink {
+  std::array<int, 3> cell{};
+  int dir = 0;
+  double q = 0.5;
+  Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
+};
+
+/// How the populations coming back from an obstacle's wall are made (docs/lbm.md, "Walls inside
+/// the grid"):
+/// - halfway: bounce-back as if every wall sat half-way along its links (q ignored), a
+///   staircase of the cells' faces, first order in the wall's true position;
+/// - bouzidi: linear interpolation along the link at the true q (Bouzidi, Firdaouss and
+///   Lallemand 2001, Phys. Fluids 13, 3452, doi:10.1063/1.1399290), second order.
+enum class WallRule { halfway, bouzidi };
+
+/// Solid cells inside the grid and the links of fluid cells into them. The solid cells are not
+/// fluid: their content is reset to rest after every odd step and never reaches the fluid.
+struct Obstacle {
+  std::vector<std::array<int, 3>> solid_cells;
+  std::vector<WallLink> links;
+  WallRule rule = WallRule::bouzidi;
 };
 
 /// Initial condition: density and velocity of interior cell (x, y, z).
@@ -128,8 +158,9 @@ class Solver {
   /// The current post-streaming (pre-collision) populations f_i of a cell, whatever the AA
   /// parity; `f` must hold Q values (direction order of lbm/lattice.hpp).
   virtual void cell_populations(int x, int y, int z, std::span<double> f) const = 0;
-  /// Overwrites the populations of a cell. Only at an even step_count() (where each cell
-  /// owns its own slots); throws std::logic_error otherwise.
+  /// Makes f the populations the cell's next collision starts from. At an even step_count() they
+  /// are the cell's own slots; at an odd one the slots its neighbours' (or a wall's) populations
+  /// stream in from, which only this cell reads, so either parity refills one cell alone.
   virtual void set_cell_populations(int x, int y, int z, std::span<const double> f) = 0;
   /// Number of discrete velocities of the instantiated lattice.
   virtual int velocity_count() const = 0;
@@ -159,6 +190,33 @@ class Solver {
   /// Number of cells holding a force written since the last clear_forces().
   virtual std::size_t forced_cell_count() const = 0;
 
+  /// Makes a cell fluid again after an obstacle left it: the equilibrium at density rho and
+  /// velocity u plus the non-equilibrium part f - f_eq of the fluid cell `donor` (Caiazzo 2008's
+  /// refill, the non-equilibrium part copied from one neighbour; the equilibrium alone without
+  /// a donor). Either parity.
+  virtual void refill_cell(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
+                           const std::optional<std::array<int, 3>>& donor) = 0;
+
+  /// The velocity of the velocity faces from the next step on (config().inflow_velocity at the
+  /// start): a stream can be ramped up. Throws std::invalid_argument beyond magnitude 0.3.
+  virtual void set_inflow_velocity(const Eigen::Vector3d& velocity) = 0;
+  virtual const Eigen::Vector3d& inflow_velocity() const = 0;
+
+  // --- an obstacle inside the grid (a body coupled by momentum exchange)
+  /// Replaces the obstacle. Every link must start at a fluid cell and end, one step along
+  /// c_dir, at a solid cell (periodic axes wrap); throws std::invalid_argument otherwise.
+  /// Cells that were solid and are not any more keep what they hold: refill them first
+  /// (set_cell_populations).
+  virtual void set_obstacle(const Obstacle& obstacle) = 0;
+  virtual bool is_solid(int x, int y, int z) const = 0;
+  virtual std::size_t solid_cell_count() const = 0;
+  /// The solid cells, in linear-index order.
+  virtual std::vector<std::array<int, 3>> solid_cell_list() const = 0;
+  /// The momentum the fluid gave to the wall through each link of the obstacle in the last
+  /// step, in link order (lattice units; momentum exchange in the Galilean-invariant form of Wen,
+  /// Zhang, Tang, Wang and Fang 2014, J. Comput. Phys. 266, 161, doi:10.1016/j.jcp.2014.02.018).
+  virtual const std::vector<Eigen::Vector3d>& wall_momentum() const = 0;
+
   // --- checkpoints
   /// The complete state (see FluidState); the populations are a view, not a copy.
   virtual FluidState export_state() const = 0;
@@ -171,6 +229,9 @@ class Solver {
   /// written plus the three force components read (storage precision). For the roofline.
   virtual std::size_t bytes_per_cell_update() const = 0;
 };
+
+/// The discrete velocities of a lattice in the solvers' direction order (lbm/lattice.hpp).
+std::span<const std::array<int, 3>> velocity_set(LatticeKind kind);
 
 /// Builds the solver for `config` (validated first; throws settle::InputError).
 std::unique_ptr<Solver> make_solver(const SolverConfig& config);

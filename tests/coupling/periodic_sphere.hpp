@@ -57,6 +57,8 @@ struct PeriodicSphereOptions {
   int forcing_iterations = 3;
   bool interior_markers = false;
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
+  CouplingKind coupling = CouplingKind::immersed_boundary;
+  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
   std::int64_t max_steps = 20000;
   double steady_tolerance = 1e-6;  ///< relative change of K per check interval to stop
 };
@@ -85,6 +87,8 @@ inline SimulationSetup periodic_sphere_setup(const PeriodicSphereOptions& o) {
   s.interior_markers = o.interior_markers;
   s.forcing_iterations = o.forcing_iterations;
   s.kernel = o.kernel;
+  s.coupling = o.coupling;
+  s.wall_rule = o.wall_rule;
   s.end_time_si = 1.0;
   return s;
 }

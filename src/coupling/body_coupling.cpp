@@ -1,0 +1,28 @@
+#include "coupling/body_coupling.hpp"
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "coupling/immersed_boundary_coupling.hpp"
+#include "coupling/momentum_exchange.hpp"
+
+namespace settle::coupling {
+
+std::string to_string(CouplingKind kind) {
+  return kind == CouplingKind::momentum_exchange ? "momentum_exchange" : "immersed_boundary";
+}
+
+CouplingKind parse_coupling(const std::string& name, const std::string& what) {
+  if (name == "immersed_boundary") return CouplingKind::immersed_boundary;
+  if (name == "momentum_exchange") return CouplingKind::momentum_exchange;
+  throw InputError(fmt::format("{}: must be immersed_boundary or momentum_exchange, got '{}'", what, name));
+}
+
+std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> shape, double dx_si,
+                                            const CouplingOptions& options) {
+  if (options.kind == CouplingKind::momentum_exchange)
+    return std::make_unique<MomentumExchangeCoupling>(std::move(shape), dx_si, options);
+  return std::make_unique<ImmersedBoundaryCoupling>(std::move(shape), dx_si, options);
+}
+
+}  // namespace settle::coupling

@@ -1,0 +1,98 @@
+#pragma once
+// The one interface behind which the body meets the fluid, so that the coupled step
+// (coupling/simulation.hpp) has no branch on the method. Two implementations:
+//  - ImmersedBoundaryCoupling (coupling/immersed_boundary_coupling.hpp): the diffuse interface,
+//    surface markers with multi-direct forcing, the force from the marker reaction plus the rate
+//    of change of the fluid momentum inside the body;
+//  - MomentumExchangeCoupling (coupling/momentum_exchange.hpp): the sharp interface, the body's
+//    cells solid, interpolated bounce-back on its true surface, the force from the momentum the
+//    links exchange, and the cells the body uncovers refilled.
+// Each step calls, in order: place (the "markers" sub-step), impose ("forcing"), the fluid step,
+// measure ("hydrodynamic_force"). Lattice units throughout (docs/coupling.md, "Couplings").
+#include <array>
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "body/shape.hpp"
+#include "coupling/immersed_body.hpp"
+#include "ibm/delta.hpp"
+#include "lbm/solver.hpp"
+
+namespace settle::coupling {
+
+/// Where the body is during the step and how its surface moves, lattice units: the pose at the
+/// end of the step (the predictor's), the velocities of the step's start.
+struct LatticePose {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d body_to_inertial = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity_n = Eigen::Vector3d::Zero();  ///< per time step, inertial frame
+  /// Rigid-body velocity of the body-fixed point now at x.
+  Eigen::Vector3d velocity_at(const Eigen::Vector3d& x) const { return velocity + angular_velocity_n.cross(x - centre); }
+};
+
+/// What a coupling measured over one fluid step: the fluid's force and torque on the body (about
+/// its centre) and their two parts.
+struct CouplingForces {
+  LatticeWrench total;
+  /// Immersed boundary: minus the marker forces. Momentum exchange: the sum over the links.
+  LatticeWrench surface;
+  /// Immersed boundary: the rate of change of the momentum of the fluid inside the body.
+  /// Momentum exchange: zero (the inside is solid).
+  LatticeWrench internal_rate;
+  /// Immersed boundary: largest and rms no-slip error at the markers after forcing. Momentum
+  /// exchange: zero (the bounce-back imposes the wall's velocity exactly).
+  double slip_max = 0.0, slip_rms = 0.0;
+};
+
+/// Which coupling a case uses (numerics.coupling).
+enum class CouplingKind { immersed_boundary, momentum_exchange };
+std::string to_string(CouplingKind kind);
+/// Throws settle::InputError naming `what` and the allowed names.
+CouplingKind parse_coupling(const std::string& name, const std::string& what);
+
+class BodyCoupling {
+ public:
+  virtual ~BodyCoupling() = default;
+  virtual CouplingKind kind() const = 0;
+
+  /// The box of cells the coupling reads or writes for the body at this pose; the grid must hold
+  /// it (Simulation::can_step).
+  virtual CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const = 0;
+  /// Called once after the fluid is initialised, with the initial pose.
+  virtual void start(lbm::Solver& fluid, const LatticePose& pose) = 0;
+  /// The body's surface at this pose: markers, or solid cells and links.
+  virtual void place(const lbm::Solver& fluid, const LatticePose& pose) = 0;
+  /// Imposes the placed surface on the fluid for its next step.
+  virtual void impose(lbm::Solver& fluid) = 0;
+  /// The force and torque of the fluid step just taken.
+  virtual CouplingForces measure(const lbm::Solver& fluid) = 0;
+
+  /// True when fluid fills the body (the immersed boundary); false when its cells are solid.
+  virtual bool fluid_inside() const = 0;
+  /// Surface elements per step: markers, or links of the last placement.
+  virtual std::size_t surface_element_count() const = 0;
+  /// What the coupling carries from one step to the next, for checkpoints: the immersed
+  /// boundary's internal fluid momentum (linear, angular), zeros for the momentum exchange.
+  virtual std::array<double, 6> carried_state() const = 0;
+  virtual void restore_carried_state(const std::array<double, 6>& state) = 0;
+};
+
+/// The numerical choices of a coupling, from the case.
+struct CouplingOptions {
+  CouplingKind kind = CouplingKind::immersed_boundary;
+  // immersed boundary
+  ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
+  int forcing_iterations = 3;
+  double marker_retraction_cells = 0.4;
+  bool interior_markers = false;
+  // momentum exchange
+  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
+};
+
+std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> shape, double dx_si,
+                                            const CouplingOptions& options);
+
+}  // namespace settle::coupling

@@ -1,0 +1,81 @@
+#include "coupling/immersed_boundary_coupling.hpp"
+
+#include <cmath>
+#include <utility>
+
+namespace settle::coupling {
+
+ImmersedBoundaryCoupling::ImmersedBoundaryCoupling(std::shared_ptr<const body::Shape> shape, double dx_si,
+                                                   const CouplingOptions& options)
+    : shape_(std::move(shape)),
+      dx_si_(dx_si),
+      options_(options),
+      body_markers_(make_body_markers(*shape_, dx_si_, options.marker_retraction_cells, options.interior_markers)) {}
+
+CellBox ImmersedBoundaryCoupling::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
+  // The body's extent along each grid axis at this attitude (support function, lattice units),
+  // widened to every cell that the delta kernel of a point within that extent touches (first cell
+  // floor(x - h) + 1, `width` cells: ibm::axis_stencil). Markers lie on or inside the surface, so
+  // this holds their stencils, and every cell the body overlaps (the volume fractions). Tighter than
+  // the bounding sphere, so a tilted or flat body can come as close to a wall as its stencils allow.
+  const double h = ibm::support_half_width(options_.kernel);
+  const int width = ibm::stencil_width(options_.kernel);
+  CellBox box;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d axis_b = body_to_inertial.row(a).transpose();
+    const double lower = centre[a] - shape_->support(-axis_b) / dx_si_;
+    const double upper = centre[a] + shape_->support(axis_b) / dx_si_;
+    const int first = static_cast<int>(std::floor(lower - h)) + 1;
+    const int last = static_cast<int>(std::floor(upper - h)) + width;
+    box.origin[static_cast<std::size_t>(a)] = first;
+    box.extent[static_cast<std::size_t>(a)] = last - first + 1;
+  }
+  return box;
+}
+
+FluidMomentum ImmersedBoundaryCoupling::internal_momentum_at(const lbm::Solver& fluid, const LatticePose& pose) const {
+  const CellBox box = box_at(pose.centre, pose.body_to_inertial);
+  return internal_momentum(fluid, solid_cells(*shape_, dx_si_, box, pose.centre, pose.body_to_inertial), pose.centre);
+}
+
+void ImmersedBoundaryCoupling::start(lbm::Solver& fluid, const LatticePose& pose) {
+  internal_before_ = internal_momentum_at(fluid, pose);
+}
+
+void ImmersedBoundaryCoupling::place(const lbm::Solver&, const LatticePose& pose) {
+  pose_ = pose;
+  markers_ = place_markers(body_markers_, pose.centre, pose.body_to_inertial, pose.velocity, pose.angular_velocity_n);
+  box_ = box_at(pose.centre, pose.body_to_inertial);
+}
+
+void ImmersedBoundaryCoupling::impose(lbm::Solver& fluid) {
+  fluid.clear_forces();
+  ibm::LocalGrid grid = gather(fluid, box_);
+  forcing_ = ibm::multi_direct_forcing(grid, markers_, {options_.kernel, options_.forcing_iterations});
+  scatter_forces(fluid, grid);
+}
+
+CouplingForces ImmersedBoundaryCoupling::measure(const lbm::Solver& fluid) {
+  const FluidMomentum internal_after =
+      internal_momentum(fluid, solid_cells(*shape_, dx_si_, box_, pose_.centre, pose_.body_to_inertial), pose_.centre);
+  CouplingForces f;
+  f.surface = marker_reaction(markers_, forcing_.marker_force, pose_.centre);
+  f.total = hydrodynamic_wrench(f.surface, internal_before_, internal_after);
+  f.internal_rate = {internal_after.linear - internal_before_.linear, internal_after.angular - internal_before_.angular};
+  f.slip_max = forcing_.slip_max_after;
+  f.slip_rms = forcing_.slip_rms_after;
+  internal_before_ = internal_after;
+  return f;
+}
+
+std::array<double, 6> ImmersedBoundaryCoupling::carried_state() const {
+  const auto& p = internal_before_;
+  return {p.linear.x(), p.linear.y(), p.linear.z(), p.angular.x(), p.angular.y(), p.angular.z()};
+}
+
+void ImmersedBoundaryCoupling::restore_carried_state(const std::array<double, 6>& s) {
+  internal_before_.linear = Eigen::Vector3d(s[0], s[1], s[2]);
+  internal_before_.angular = Eigen::Vector3d(s[3], s[4], s[5]);
+}
+
+}  // namespace settle::coupling

@@ -1,0 +1,45 @@
+#pragma once
+// The diffuse coupling behind BodyCoupling (coupling/body_coupling.hpp): surface markers (and,
+// as an option, a lattice of interior markers) placed at the predicted pose with the velocities
+// of the step's start; multi-direct forcing (Luo et al. 2007; Breugem 2012) spread into the
+// fluid's force array; the hydrodynamic force as minus the marker forces plus the rate of change
+// of the momentum of the fluid inside the body (Kempe and Froehlich 2012), immersed_body.hpp.
+#include <memory>
+
+#include "coupling/body_coupling.hpp"
+#include "ibm/forcing.hpp"
+
+namespace settle::coupling {
+
+class ImmersedBoundaryCoupling final : public BodyCoupling {
+ public:
+  ImmersedBoundaryCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options);
+
+  CouplingKind kind() const override { return CouplingKind::immersed_boundary; }
+  CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const override;
+  void start(lbm::Solver& fluid, const LatticePose& pose) override;
+  void place(const lbm::Solver& fluid, const LatticePose& pose) override;
+  void impose(lbm::Solver& fluid) override;
+  CouplingForces measure(const lbm::Solver& fluid) override;
+  bool fluid_inside() const override { return true; }
+  std::size_t surface_element_count() const override { return body_markers_.size(); }
+  std::array<double, 6> carried_state() const override;
+  void restore_carried_state(const std::array<double, 6>& state) override;
+
+ private:
+  FluidMomentum internal_momentum_at(const lbm::Solver& fluid, const LatticePose& pose) const;
+
+  std::shared_ptr<const body::Shape> shape_;
+  double dx_si_;
+  CouplingOptions options_;
+  BodyMarkers body_markers_;
+  // The step in progress: its pose, markers, box and forcing.
+  LatticePose pose_;
+  ibm::Markers markers_;
+  CellBox box_;
+  ibm::ForcingResult forcing_;
+  /// The fluid momentum inside the body at the end of the previous step.
+  FluidMomentum internal_before_;
+};
+
+}  // namespace settle::coupling
