@@ -1,5 +1,5 @@
 #pragma once
-// Observables of a settling run (issue 6) and the whole analysis of one run: terminal state,
+// Observables of a settling run and the whole analysis of one run: terminal state,
 // averages over the terminal window, dimensionless groups, drag, tilt, lateral motion and its
 // spectrum, rotation, and the regime (regime.hpp). docs/analysis.md lists every definition.
 //

@@ -1,5 +1,5 @@
 // `settle run [CASE.toml] [-o DIR] [--set key=value]... [--threads N] [--max-memory GIB]`
-// (DESIGN.md section 3): loads and checks the case, runs the preflight checks (io/preflight.hpp,
+// (docs/architecture.md, "Outputs"): loads and checks the case, runs the preflight checks (io/preflight.hpp,
 // docs/errors.md), converts units, runs the coupled simulation and writes DIR/timeseries.csv,
 // DIR/summary.json and DIR/case.resolved.toml (docs/coupling.md).
 //

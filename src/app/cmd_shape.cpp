@@ -74,7 +74,7 @@ double positive_number(const std::string& text, const std::string& flag) {
 }
 
 // ------------------------------------------------------------------ case file
-// Keys of [particle] (DESIGN.md section 3); those that do not describe the shape are checked
+// Keys of [particle] (docs/architecture.md, "Case file"); those that do not describe the shape are checked
 // for their type only.
 const std::set<std::string, std::less<>> kVectorKeys{"towing_velocity", "position", "euler", "velocity", "angular_velocity"};
 

@@ -118,8 +118,6 @@ lbm::Boundary wall(const CaseValues& v, std::string_view key) {
 
 }  // namespace
 
-std::string_view default_case_toml() { return kDefaultCase; }
-
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
   CaseValues values = path.empty() ? parse_case(case_schema(), kDefaultCase, "built-in default case")
                                    : parse_case(case_schema(), read_file(path), path.string());

@@ -11,10 +11,6 @@
 
 namespace settle::io {
 
-/// TOML text of the built-in default case: a small free-settling, tilted prolate spheroid in
-/// water that runs in about a minute on two cores.
-std::string_view default_case_toml();
-
 /// Reads a case file (or the default case when `path` is empty), applies the --set overrides in
 /// order, then the fluid preset (io/fluid_presets.hpp: fluid.density and fluid.dynamic_viscosity
 /// from fluid.preset unless given). settle::InputError names the file or --set and the key on any

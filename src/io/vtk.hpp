@@ -1,5 +1,5 @@
 #pragma once
-// VTK XML output for ParaView (issue 5): the fluid on the grid as ImageData (.vti), the
+// VTK XML output for ParaView: the fluid on the grid as ImageData (.vti), the
 // particle's surface as PolyData (.vtp), and ParaView data collections (.pvd) that list them
 // in time. Format: the XML file formats of the VTK documentation ("VTK File Formats",
 // https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html; also in the VTK User's

@@ -1,5 +1,5 @@
 // Case tests of `settle shape`: the real binary (SETTLE_BINARY) on flags, meshes and case
-// files, checked against closed forms, the JSON contract of DESIGN.md section 3, and its
+// files, checked against closed forms, the JSON contract (docs/architecture.md, "Contracts"), and its
 // handling of bad input (exit status 2 and a message naming the flag or key).
 #include <sys/wait.h>
 #include <unistd.h>
