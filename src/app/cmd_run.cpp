@@ -28,6 +28,7 @@
 #include "app/run_checkpoints.hpp"
 #include "app/console.hpp"
 #include "app/summary_fields.hpp"
+#include "body/surface_triangulation.hpp"
 #include "common/error.hpp"
 #include "coupling/health.hpp"
 #include "coupling/runner.hpp"
@@ -36,6 +37,7 @@
 #include "io/case.hpp"
 #include "io/output_files.hpp"
 #include "io/preflight.hpp"
+#include "io/pvd.hpp"
 #include "io/vtk.hpp"
 #include "lbm/config.hpp"
 
@@ -182,7 +184,7 @@ class VtkOutput {
         dir_(dir / "vtk"),
         schedule_(interval_si),
         // Triangles about a cell wide: the surface at the resolution the fluid sees.
-        surface_b_(io::surface_triangulation(*sim.setup().shape, sim.units().dx_si())),
+        surface_b_(body::surface_triangulation(*sim.setup().shape, sim.units().dx_si())),
         fluid_pvd_(dir_ / "fluid.pvd"),
         surface_pvd_(dir_ / "surface.pvd") {
     std::error_code error;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "analysis/analysis_json.hpp"
 #include "analysis/observables.hpp"
 #include "body/ellipsoid.hpp"
 #include "body/mass_properties.hpp"
