@@ -25,6 +25,7 @@
 #include "analysis/spectrum.hpp"
 #include "analysis/terminal_state.hpp"
 #include "analysis/timeseries.hpp"
+#include "common/physical_defaults.hpp"
 
 namespace settle::body {
 class Shape;
@@ -55,10 +56,10 @@ BodyAxis body_axis(const body::MassProperties& mass_properties);
 
 /// What the analysis needs to know of the particle and the fluid, SI.
 struct ParticleProperties {
-  double fluid_density_si = 998.2;
-  double dynamic_viscosity_si = 1.0e-3;
-  Eigen::Vector3d gravity_si{0.0, 0.0, -9.81};
-  double particle_density_si = 1050.0;
+  double fluid_density_si = defaults::fluid_density_si;
+  double dynamic_viscosity_si = defaults::dynamic_viscosity_si;
+  Eigen::Vector3d gravity_si{0.0, 0.0, -defaults::gravity_si};
+  double particle_density_si = defaults::particle_density_si;
   double volume_si = 0.0;
   double equivalent_diameter_si = 0.0;  ///< (6 V / pi)^(1/3)
   BodyAxis axis;

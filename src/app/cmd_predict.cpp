@@ -22,6 +22,7 @@
 #include "attitude/attitude.hpp"
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
+#include "common/physical_defaults.hpp"
 #include "io/case.hpp"
 
 namespace settle::app {
@@ -153,7 +154,7 @@ Problem problem_from_flags(const PredictOptions& o, analysis::Orientation orient
   const double density = required_positive(o.density, "--density", "particle density, kg/m^3");
   p.fluid_density_si = required_positive(o.fluid_density, "--fluid-density", "fluid density, kg/m^3");
   p.dynamic_viscosity_si = required_positive(o.viscosity, "--viscosity", "dynamic viscosity, Pa s");
-  p.gravity_si = o.gravity ? positive_number(*o.gravity, "--gravity") : 9.81;
+  p.gravity_si = o.gravity ? positive_number(*o.gravity, "--gravity") : defaults::gravity_si;
   if (density == p.fluid_density_si) {
     throw InputError(fmt::format("--density: must differ from --fluid-density ({}), else nothing settles", *o.fluid_density));
   }

@@ -7,6 +7,7 @@
 
 #include "body/cube_sphere.hpp"
 #include "body/mesh_shape.hpp"
+#include "common/bisection.hpp"
 
 namespace settle::body {
 namespace {
@@ -16,17 +17,18 @@ namespace {
 Eigen::Vector3d ray_exit(const Shape& shape, const Eigen::Vector3d& direction) {
   const Eigen::Vector3d d = direction.normalized();
   const double radius = shape.bounding_radius();
-  double inside = 0.0;
+  const double inside = 0.0;
   // A little beyond the bounding radius is outside by its definition.
-  double outside = radius * (1.0 + 1e-6);
+  const double outside = radius * (1.0 + 1e-6);
   if (shape.contains(outside * d)) throw std::logic_error("surface_triangulation: bounding radius is too small");
+  const auto side = [&](double distance) {
+    return shape.contains(distance * d) ? BisectionSide::below : BisectionSide::above;
+  };
   // 1e-13 of the radius: far below anything a grid resolves, and some 500 ulp above the
-  // round-off of the inside tests of bodies of size ~1.
-  while (outside - inside > 1e-13 * radius) {
-    const double middle = 0.5 * (inside + outside);
-    (shape.contains(middle * d) ? inside : outside) = middle;
-  }
-  return 0.5 * (inside + outside) * d;
+  // round-off of the inside tests of bodies of size ~1. Reached in about 43 halvings; the step
+  // limit is only a guard.
+  const auto converged = [&](double lo, double hi) { return !(hi - lo > 1e-13 * radius); };
+  return bisect({inside, outside}, side, converged, 200).middle() * d;
 }
 
 // Cube-sphere grid sizes: 1.6 h / max_edge cells per axis to start with (cube_sphere.cpp), which
