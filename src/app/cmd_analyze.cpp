@@ -20,6 +20,7 @@
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
 #include "app/summary_fields.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
 #include "io/case.hpp"
@@ -164,7 +165,7 @@ void analyze(const AnalyzeOptions& options) {
 
   const json fields = analysis_summary_fields(setup, result);
   for (const auto& [key, value] : fields.items()) summary[key] = value;
-  io::write_file_atomically(summary_path, summary.dump(2) + "\n");
+  write_file_atomically(summary_path, summary.dump(2) + "\n");
   if (options.json_output)
     std::cout << fields.dump(2) << "\n";
   else

@@ -29,6 +29,7 @@
 #include "app/console.hpp"
 #include "app/summary_fields.hpp"
 #include "body/surface_triangulation.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "coupling/health.hpp"
 #include "coupling/runner.hpp"
@@ -293,7 +294,7 @@ nlohmann::json write_summary(const io::CaseValues& values, const coupling::Simul
   // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
   if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
   add_analysis(summary_document, sim, dir / "timeseries.csv", console);
-  io::write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
+  write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
   return summary_document;
 }
 
@@ -341,7 +342,7 @@ void run_case(const RunOptions& options) {
   const std::string resolved_case =
       restart ? restart->resolved_case()
               : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
-  io::write_file_atomically(dir / "case.resolved.toml", resolved_case);
+  write_file_atomically(dir / "case.resolved.toml", resolved_case);
   if (!restart) remove_earlier_checkpoint(dir);
 
   io::TimeseriesWriter timeseries =
