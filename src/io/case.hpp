@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
 #include "io/schema.hpp"
 
@@ -16,6 +17,11 @@ namespace settle::io {
 /// from fluid.preset unless given). settle::InputError names the file or --set and the key on any
 /// problem.
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides);
+
+/// The shape keys of a checked case's [particle] table (shape, diameter, aspect_ratio, semi_axes,
+/// exponents, length, size, file, scale), for body::make_shape: the one reader of a case's shape,
+/// used by `settle run`, `settle shape` and `settle predict`.
+body::ShapeSpec shape_spec(const CaseValues& values);
 
 /// The simulation set-up of a checked case. Relative mesh paths are taken relative to
 /// `base_directory` (the case file's folder). Keys that depend on each other are checked here
