@@ -115,7 +115,7 @@ void BM_InplaceStreams(benchmark::State& state) {
 }
 BENCHMARK(BM_InplaceStreams)->ArgsProduct({{1, 4, 10, 11, 19, 22}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The memory side of a candidate layout for the AA kernel (issue 3, docs/lbm.md): AoSoA, each row
+// The memory side of a candidate layout for the AA kernel (docs/lbm.md): AoSoA, each row
 // of x stored as blocks of 8 cells x 19 populations (1216 bytes, whole cache lines), rows after
 // one another. Each block's 19 population vectors are read and written back in place, either
 // all in the cell's own row (the even AA step: one sequential stream per thread) or, for the odd

@@ -41,7 +41,7 @@ except ImportError as import_error:  # reported by main() with the Debian packag
 
 PROGRAM = "settle plot"
 
-# Columns every timeseries.csv has (DESIGN.md section 3); extra columns may follow.
+# Columns every timeseries.csv has (docs/architecture.md, "Contracts"); extra columns may follow.
 REQUIRED_COLUMNS = (
     "t x y z ux uy uz wx wy wz wbx wby wbz psi theta gamma psi_r theta_r gamma_r euler_set "
     "Fx Fy Fz Tx Ty Tz Re"
@@ -168,7 +168,7 @@ def load_reference(key, path, explicit):
 
 
 # ----------------------------------------------------------------------------------------------
-# Attitude (conventions of DESIGN.md section 2 and src/attitude/euler.hpp)
+# Attitude (conventions of docs/architecture.md, "Frames and attitude", and src/attitude/euler.hpp)
 
 
 def set1_body_to_inertial(psi, theta, gamma):
@@ -478,7 +478,7 @@ def plot_orientation(ts, summary, case, path, written):
 
     plot_euler_set(ax_1, t, (ts["psi"], ts["theta"], ts["gamma"]), (r"$\psi$", r"$\theta$", r"$\gamma$"),
                    euler_set, 1)
-    # Set 1 is integrated while |theta| <= 45 deg (or > 135 deg); DESIGN.md section 2.
+    # Set 1 is integrated while |theta| <= 45 deg (or > 135 deg); docs/architecture.md, "Frames and attitude".
     for level in (-45.0, 45.0):
         ax_1.axhline(level, color="0.5", lw=0.7, ls="--")
     ax_1.plot([], [], color="0.5", lw=0.7, ls="--", label=r"switch at $|\theta|$ = 45°")
@@ -602,7 +602,8 @@ def draw_reference_panel(ax, ts, summary, reference, series):
             if isinstance(fields.get(name), (int, float)):
                 ax.axhline(-fields[name], color="0.4", lw=0.9, ls=style, label=label)
     else:
-        # The gap is measured from z = 0, the bottom of the domain (DESIGN.md section 3), which is
+        # The gap is measured from z = 0, the bottom of the domain (docs/architecture.md, "Frames and
+        # attitude"), which is
         # where a ten Cate case puts the tank bottom; d is the volume-equivalent diameter.
         d_eq = summary.get("equivalent_diameter") or reference["setup_fields"].get("sphere_diameter")
         simulated, what, unit = (ts["z"] - 0.5 * d_eq) / d_eq, "gap/d", ""

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Sanitizer stage of CI (issue 7; docs/fuzzing.md): installs what is missing (Debian packages),
+# Sanitizer stage of CI (docs/fuzzing.md): installs what is missing (Debian packages),
 # builds the debug preset (build/debug: the library and the front end instrumented with
 # AddressSanitizer + UndefinedBehaviorSanitizer at -O1 -g1; the tests' own code is not, but links
 # the runtimes) and runs its unit and case tests. The debug test preset leaves out the tests labelled `heavy`

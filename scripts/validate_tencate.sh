@@ -2,7 +2,7 @@
 # Validation against ten Cate et al. 2002 (Phys. Fluids 14, 4012, doi:10.1063/1.1512918): runs the
 # four shipped cases cases/tencate_E1..E4.toml at one resolution into runs/, then `settle analyze`
 # and `settle plot --reference tenCate2002_EN` on each, and prints a table of the largest settling
-# speed against the measured u_max, and a table of the issue's 5% bands (the largest difference of
+# speed against the measured u_max, and a table of the 5% bands of the acceptance (the largest difference of
 # u_z from the digitised curve over the measured u_max, and of the gap over the initial gap, while
 # the experiment's gap is above 1 d and above 2 d), and the first digitised velocities beside the
 # Basset-Boussinesq-Oseen solution for a release from rest. NOT run in CI: at the default 16 cells per diameter the
@@ -110,7 +110,7 @@ for case in ("E1", "E2", "E3", "E4"):
     print(f"{case:5} {u_max:13.5f} {u_exp:10.5f} {100 * (u_max / u_exp - 1):+7.2f}%  "
           f"{summary.get('stop_reason', '?'):>16} {summary.get('wall_seconds', 0):9.0f}  {rms}")
 
-# The 5% bands of the issue: until the sphere nears the bottom (the experiment's gap above 1 d),
+# The 5% bands of the acceptance: until the sphere nears the bottom (the experiment's gap above 1 d),
 # the simulated u_z(t) within 5% of the measured u_max of the digitised velocity, and the simulated
 # gap(t) within 5% of the initial gap (8 d) of the digitised trajectory. Linear interpolation of the
 # simulated series at the digitised times.

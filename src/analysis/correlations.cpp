@@ -9,7 +9,9 @@
 #include <fmt/core.h>
 
 #include "body/shape_factors.hpp"
+#include "common/bisection.hpp"
 #include "common/error.hpp"
+#include "common/require.hpp"
 #include "coupling/simulation.hpp"
 
 namespace settle::analysis {
@@ -21,19 +23,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // which would make -log(phi) negative and its fractional powers NaN.
 double clamp_sphericity(double sphericity) { return std::min(sphericity, 1.0); }
 
-void require_positive(double value, const char* what) {
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    throw std::invalid_argument(fmt::format("{}: must be finite and > 0, got {}", what, value));
-  }
-}
-
 }  // namespace
 
 // ------------------------------------------------------------------ drag laws
 
-double schiller_naumann_drag(double reynolds) {
-  return 24.0 / reynolds * (1.0 + 0.15 * std::pow(reynolds, 0.687));
-}
+// The unit converter needs the same law to choose dt and may not depend on analysis, so the
+// formula lives there.
+double schiller_naumann_drag(double reynolds) { return coupling::schiller_naumann_drag_coefficient(reynolds); }
 
 double clift_grace_weber_drag(double re) {
   // Clift, Grace and Weber 1978, Table 5.2; w = log10 Re. Below Re = 0.01 Oseen's correction.
@@ -141,26 +137,23 @@ double scaled_force_excess(const std::function<double(double)>& drag_coefficient
 ForceBalanceSolution solve_force_balance(const std::function<double(double)>& drag_coefficient,
                                   const SettlingConditions& conditions) {
   const double target = 4.0 / 3.0 * archimedes_number(conditions);
-  double lo = kMinReynolds, hi = kMaxReynolds;
-  double f_lo = scaled_force_excess(drag_coefficient, lo, target);
-  const double f_hi = scaled_force_excess(drag_coefficient, hi, target);
+  const auto excess = [&](double reynolds) { return scaled_force_excess(drag_coefficient, reynolds, target); };
   ForceBalanceSolution state;
-  if (!(f_lo < 0.0 && f_hi > 0.0)) return state;  // not bracketed (or NaN): no terminal state here
+  // Not bracketed (or NaN): no terminal state here.
+  if (!(excess(kMinReynolds) < 0.0 && excess(kMaxReynolds) > 0.0)) return state;
   // Bisection at the geometric mean: the bracket spans 18 decades, so halving it in log Re
   // reaches round-off in about 60 steps; 200 is a guard against an ill-behaved law.
-  for (int i = 0; i < 200 && hi > lo * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()); ++i) {
-    const double mid = std::sqrt(lo * hi);
-    const double f_mid = scaled_force_excess(drag_coefficient, mid, target);
-    if (std::isnan(f_mid)) return state;
-    if (f_mid < 0.0) {
-      lo = mid;
-      f_lo = f_mid;
-    } else {
-      hi = mid;
-    }
-  }
-  const double f_hi_final = scaled_force_excess(drag_coefficient, hi, target);
-  state.reynolds = std::abs(f_lo) <= std::abs(f_hi_final) ? lo : hi;
+  const auto side = [&](double reynolds) {
+    const double f = excess(reynolds);
+    if (std::isnan(f)) return BisectionSide::undefined;
+    return f < 0.0 ? BisectionSide::below : BisectionSide::above;
+  };
+  const auto converged = [](double lo, double hi) {
+    return !(hi > lo * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()));
+  };
+  const BisectionBracket root = bisect({kMinReynolds, kMaxReynolds}, side, converged, 200, geometric_midpoint);
+  if (root.undefined) return state;
+  state.reynolds = std::abs(excess(root.low)) <= std::abs(excess(root.high)) ? root.low : root.high;
   state.drag_coefficient = drag_coefficient(state.reynolds);
   state.terminal_velocity_si = velocity_of_reynolds(state.reynolds, conditions);
   state.solved = std::isfinite(state.drag_coefficient);

@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 
 #include "body/shape.hpp"
+#include "common/physical_defaults.hpp"
 
 namespace settle::coupling {
 struct SimulationSetup;
@@ -93,10 +94,10 @@ double dietrich_dimensionless_velocity(double dimensionless_diameter, double cor
 
 /// A particle settling (or rising) in a fluid at rest. SI units.
 struct SettlingConditions {
-  double fluid_density_si = 998.2;
-  double dynamic_viscosity_si = 1.0e-3;
-  double gravity_si = 9.81;  ///< magnitude
-  double particle_density_si = 1050.0;
+  double fluid_density_si = defaults::fluid_density_si;
+  double dynamic_viscosity_si = defaults::dynamic_viscosity_si;
+  double gravity_si = defaults::gravity_si;  ///< magnitude
+  double particle_density_si = defaults::particle_density_si;
   double equivalent_diameter_si = 1.0e-3;  ///< d_v
 };
 

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <numbers>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
+#include "analysis/regime_evidence.hpp"
 #include "body/cylinder.hpp"
 #include "body/mass_properties.hpp"
 #include "body/projected_area.hpp"
@@ -22,17 +21,12 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegreesPerRadian = 180.0 / kPi;
-// The direct DFT costs points^2 / 2 per component: 4096 points keep it near 10^7 operations
-// while resolving hundreds of periods per window.
-constexpr std::size_t kMaxSpectralPoints = 4096;
 // Projected areas of non-convex meshes cost milliseconds each; the mean shadow of a slowly
 // turning body is well estimated from this many samples spread over the window.
 constexpr std::size_t kMaxProjectedAreaSamples = 64;
 // Below this length the mean of the axis direction (which cancels for a tumbling body) no
 // longer defines a mean axis; the principal direction of <e e^T> is used instead.
 constexpr double kMeanAxisMinLength = 0.2;
-// An averaging window needs this many samples before its regime is judged.
-constexpr std::size_t kMinClassifiableSamples = 8;
 
 double clamp_unit(double x) { return std::clamp(x, -1.0, 1.0); }
 
@@ -103,88 +97,6 @@ double trend_fraction(const std::vector<double>& t, const std::vector<std::vecto
 Eigen::Vector3d dominant_direction(const Eigen::Matrix3d& symmetric) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(symmetric);
   return solver.eigenvectors().col(2);  // eigenvalues ascending
-}
-
-// ------------------------------------------------------------------ spectrum
-std::vector<double> resample_uniform(const std::vector<double>& t, const std::vector<double>& x, std::size_t points) {
-  std::vector<double> y(points);
-  const double t0 = t.front(), step = (t.back() - t.front()) / static_cast<double>(points - 1);
-  std::size_t k = 0;
-  for (std::size_t j = 0; j < points; ++j) {
-    const double tj = j + 1 == points ? t.back() : t0 + step * static_cast<double>(j);
-    while (k + 2 < t.size() && t[k + 1] < tj) ++k;
-    const double s = (tj - t[k]) / (t[k + 1] - t[k]);
-    y[j] = x[k] + s * (x[k + 1] - x[k]);
-  }
-  return y;
-}
-
-// Hann-windowed components with the Hann-weighted mean removed (the windowed signal then has
-// no power at zero frequency).
-std::vector<std::vector<double>> windowed_components(const std::vector<double>& t,
-                                                     const std::vector<std::vector<double>>& components,
-                                                     std::size_t points) {
-  std::vector<double> hann(points);
-  double hann_sum = 0.0;
-  for (std::size_t j = 0; j < points; ++j) {
-    hann[j] = std::pow(std::sin(kPi * static_cast<double>(j) / static_cast<double>(points - 1)), 2);
-    hann_sum += hann[j];
-  }
-  std::vector<std::vector<double>> windowed;
-  for (const auto& x : components) {
-    std::vector<double> y = resample_uniform(t, x, points);
-    double mean = 0.0;
-    for (std::size_t j = 0; j < points; ++j) mean += hann[j] * y[j];
-    mean /= hann_sum;
-    for (std::size_t j = 0; j < points; ++j) y[j] = hann[j] * (y[j] - mean);
-    windowed.push_back(std::move(y));
-  }
-  return windowed;
-}
-
-// Summed power of the components at a frequency given in cycles per sample.
-double power_at(const std::vector<std::vector<double>>& windowed, double cycles_per_sample) {
-  double power = 0.0;
-  for (const auto& y : windowed) {
-    std::complex<double> sum = 0.0;
-    for (std::size_t j = 0; j < y.size(); ++j)
-      sum += y[j] * std::polar(1.0, -2.0 * kPi * cycles_per_sample * static_cast<double>(j));
-    power += std::norm(sum);
-  }
-  return power;
-}
-
-// Power in the DFT bins k = 0 .. points/2 (one-sided), summed over the components.
-std::vector<double> bin_powers(const std::vector<std::vector<double>>& windowed, std::size_t points) {
-  std::vector<std::complex<double>> twiddle(points);
-  for (std::size_t r = 0; r < points; ++r)
-    twiddle[r] = std::polar(1.0, -2.0 * kPi * static_cast<double>(r) / static_cast<double>(points));
-  std::vector<double> power(points / 2 + 1, 0.0);
-  for (const auto& y : windowed)
-    for (std::size_t k = 0; k < power.size(); ++k) {
-      std::complex<double> sum = 0.0;
-      for (std::size_t j = 0; j < points; ++j) sum += y[j] * twiddle[(k * j) % points];
-      power[k] += std::norm(sum);
-    }
-  return power;
-}
-
-// Golden-section search for the maximum of the power between two frequencies (cycles/sample).
-double refine_peak(const std::vector<std::vector<double>>& windowed, double low, double high) {
-  const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
-  double a = low, b = high;
-  double c = b - ratio * (b - a), d = a + ratio * (b - a);
-  double pc = power_at(windowed, c), pd = power_at(windowed, d);
-  for (int iteration = 0; iteration < 60 && b - a > 1e-9 * (high - low); ++iteration) {
-    if (pc > pd) {
-      b = d, d = c, pd = pc;
-      c = b - ratio * (b - a), pc = power_at(windowed, c);
-    } else {
-      a = c, c = d, pc = pd;
-      d = a + ratio * (b - a), pd = power_at(windowed, d);
-    }
-  }
-  return 0.5 * (a + b);
 }
 
 // ------------------------------------------------------------------ the averaging window
@@ -446,75 +358,11 @@ void sampling_warning(const SettlingSeries& series, Analysis& a) {
                                    a.terminal.samples_per_window, a.criteria.min_samples_per_window));
 }
 
-RegimeEvidence regime_evidence(const Analysis& a, std::string not_classifiable_reason) {
-  RegimeEvidence e;
-  e.classifiable = not_classifiable_reason.empty();
-  e.not_classifiable_reason = std::move(not_classifiable_reason);
-  const double speed = a.terminal_speed_si;
-  e.path_angle_deg = a.path_angle_deg;
-  e.lateral_drift_ratio = speed > 0.0 ? a.lateral_drift_speed_si / speed : 0.0;
-  e.lateral_amplitude_ratio = speed > 0.0 ? a.lateral_amplitude_si / speed : 0.0;
-  e.lateral_circularity = a.lateral_circularity;
-  e.lateral_concentration = a.lateral_peak.concentration;
-  e.lateral_cycles = a.lateral_peak.cycles;
-  e.lateral_trend_fraction = a.lateral_trend_fraction;
-  e.has_axis = a.axis.kind != AxisKind::none;
-  e.tilt_amplitude_deg = a.tilt_amplitude_deg.value_or(0.0);
-  e.tilt_concentration = a.tilt_peak.concentration;
-  e.tilt_cycles = a.tilt_peak.cycles;
-  e.tilt_trend_fraction = a.tilt_trend_fraction;
-  e.axis_net_rotation = a.axis_net_rotation;
-  e.axis_rotation_monotonicity = a.axis_rotation_monotonicity;
-  e.axis_rotation_elevation_deg = a.axis_rotation_elevation_deg;
-  return e;
-}
-
-// Why the window cannot be classified, or "" when it can.
-std::string classifiability(const Analysis& a) {
-  if (a.window_samples < kMinClassifiableSamples)
-    return fmt::format("the averaging window has {} samples (< {})", a.window_samples, kMinClassifiableSamples);
-  if (!(a.terminal_speed_si > 0.0)) return "the particle does not move";
-  if (a.terminal.reached || !(a.criteria.response_time_si > 0.0)) return "";
-  const double half = a.window_end_si - a.window_start_si, needed = 2.0 * a.criteria.window_si();
-  if (half < needed)
-    return fmt::format("no terminal state, and the second half of the run ({:.4g} s) is shorter than the two "
-                       "detection windows ({:.4g} s) that would have to disagree for an unsteady regime",
-                       half, needed);
-  return "";
-}
-
 void choose_window(const SettlingSeries& series, Analysis& a) {
   const double t0 = series.t_si.front(), t1 = series.t_si.back();
   a.averaged_over_terminal_window = a.terminal.reached;
   a.window_start_si = a.terminal.reached ? a.terminal.terminal_time_si : t0 + 0.5 * (t1 - t0);
   a.window_end_si = t1;
-}
-
-nlohmann::ordered_json optional_json(const std::optional<double>& value) {
-  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
-}
-
-nlohmann::ordered_json vector_json(const Eigen::Vector3d& v) {
-  return nlohmann::ordered_json::array({v[0], v[1], v[2]});
-}
-
-std::string_view axis_kind_name(AxisKind kind) {
-  switch (kind) {
-    case AxisKind::symmetry: return "symmetry";
-    case AxisKind::longest: return "longest";
-    case AxisKind::none: break;
-  }
-  return "none";
-}
-
-nlohmann::ordered_json peak_json(const SpectralPeak& peak, const std::optional<double>& frequency,
-                                 const std::optional<double>& strouhal) {
-  nlohmann::ordered_json j;
-  j["frequency"] = optional_json(frequency);
-  j["strouhal"] = optional_json(strouhal);
-  j["spectral_concentration"] = peak.found ? nlohmann::ordered_json(peak.concentration) : nullptr;
-  j["periods_in_window"] = peak.found ? nlohmann::ordered_json(peak.cycles) : nullptr;
-  return j;
 }
 
 }  // namespace
@@ -565,38 +413,6 @@ ParticleProperties particle_properties(const coupling::SimulationSetup& setup) {
                              setup.dynamic_viscosity_si, setup.gravity_si);
 }
 
-SpectralPeak spectral_peak(const std::vector<double>& t_si, const std::vector<std::vector<double>>& components) {
-  SpectralPeak peak;
-  if (t_si.size() < 4 || components.empty()) return peak;
-  const std::size_t points = std::min(t_si.size(), kMaxSpectralPoints);
-  const auto windowed = windowed_components(t_si, components, points);
-  // A constant signal leaves only the round-off of its mean: no peak to find.
-  double signal = 0.0, fluctuation = 0.0;
-  for (std::size_t c = 0; c < components.size(); ++c) {
-    for (double x : components[c]) signal = std::max(signal, std::abs(x));
-    for (double y : windowed[c]) fluctuation = std::max(fluctuation, std::abs(y));
-  }
-  if (!(fluctuation > 1e-12 * signal)) return peak;
-  const std::vector<double> power = bin_powers(windowed, points);
-  double total = 0.0;
-  for (double p : power) total += p;
-  if (!(total > 0.0)) return peak;
-  const auto highest = std::max_element(power.begin() + 1, power.end());
-  const auto k = static_cast<double>(highest - power.begin());
-  const double n = static_cast<double>(points);
-  const double cycles_per_sample =
-      refine_peak(windowed, std::max(0.0, k - 1.0) / n, std::min(static_cast<double>(power.size() - 1), k + 1.0) / n);
-  const double sample_step = (t_si.back() - t_si.front()) / (n - 1.0);
-  double near_peak = 0.0;
-  for (std::size_t b = 0; b < power.size(); ++b)
-    if (std::abs(static_cast<double>(b) - cycles_per_sample * n) <= 2.0) near_peak += power[b];
-  peak.found = true;
-  peak.frequency_hz = cycles_per_sample / sample_step;
-  peak.concentration = near_peak / total;
-  peak.cycles = peak.frequency_hz * (t_si.back() - t_si.front());
-  return peak;
-}
-
 Analysis analyse(const SettlingSeries& series, const ParticleProperties& properties, const AnalysisOptions& options) {
   if (series.size() < 2) throw InputError("the analysis needs at least 2 samples");
   const VerticalFrame frame = vertical_frame(properties.gravity_si);
@@ -625,7 +441,7 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
     axis_rotation(w, frame, e, a);
   }
   frequencies(properties, options.thresholds, a);
-  a.evidence = regime_evidence(a, classifiability(a));
+  a.evidence = regime_evidence(a);
   a.regime = classify_regime(a.evidence, options.thresholds);
   if (a.regime.regime == Regime::tumbling) {
     a.mean_axis_tilt_deg.reset();
@@ -636,86 +452,6 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   if (is_periodic(a.regime.regime)) window_warnings(a);
   sampling_warning(series, a);
   return a;
-}
-
-nlohmann::ordered_json to_json(const Analysis& a) {
-  using json = nlohmann::ordered_json;
-  json j;
-  j["terminal_velocity"] = a.terminal_speed_si;
-  j["terminal_vertical_velocity"] = a.vertical_velocity_si;
-  j["reynolds"] = a.reynolds;
-  j["drag_coefficient"] = a.drag_coefficient;
-  j["galileo"] = a.galileo;
-  j["regime"] = regime_name(a.regime.regime);
-  j["regime_reason"] = a.regime.reason;
-  j["terminal_velocity_vector"] = vector_json(a.mean_velocity_si);
-  j["archimedes"] = a.archimedes;
-  j["stokes_number"] = a.stokes_number;
-  j["density_ratio"] = a.density_ratio;
-  j["dimensionless_inertia"] = optional_json(a.dimensionless_inertia);
-  j["drag_coefficient_projected_area"] = optional_json(a.drag_coefficient_projected_area);
-  j["projected_area"] = optional_json(a.projected_area_si);
-  j["drag_coefficient_from_force"] = a.drag_coefficient_from_force;
-
-  json terminal;
-  terminal["reached"] = a.terminal.reached;
-  terminal["time"] = a.terminal.reached ? json(a.terminal.terminal_time_si) : json(nullptr);
-  terminal["detected_at"] = a.terminal.reached ? json(a.terminal.detected_at_si) : json(nullptr);
-  terminal["relative_change"] = a.terminal.reached ? json(a.terminal.relative_change) : json(nullptr);
-  terminal["time_to_95_percent"] = optional_json(a.time_to_95_percent_si);
-  terminal["response_time"] = a.criteria.response_time_si;
-  terminal["window"] = a.criteria.window_si();
-  terminal["window_response_times"] = a.criteria.window_response_times;
-  terminal["tolerance"] = a.criteria.tolerance;
-  j["terminal_state"] = terminal;
-
-  json averaging;
-  averaging["basis"] = a.averaged_over_terminal_window ? "terminal_window" : "second_half";
-  averaging["start_time"] = a.window_start_si;
-  averaging["end_time"] = a.window_end_si;
-  averaging["samples"] = a.window_samples;
-  j["averaging"] = averaging;
-
-  json lateral;
-  lateral["drift_velocity"] = a.lateral_drift_speed_si;
-  lateral["path_angle_deg"] = a.path_angle_deg;
-  lateral["displacement"] = a.lateral_displacement_si;
-  lateral["amplitude"] = a.lateral_amplitude_si;
-  lateral["minor_amplitude"] = a.lateral_minor_amplitude_si;
-  lateral["circularity"] = a.lateral_circularity;
-  lateral["trend_fraction"] = a.lateral_trend_fraction;
-  lateral.update(peak_json(a.lateral_peak, a.lateral_frequency_hz, a.lateral_strouhal));
-  j["lateral"] = lateral;
-
-  json tilt_json;
-  tilt_json["axis"] = axis_kind_name(a.axis.kind);
-  if (a.axis.kind != AxisKind::none) {
-    tilt_json["axis_body"] = vector_json(a.axis.axis_b);
-    tilt_json["mean_deg"] = a.tilt_mean_deg;
-    tilt_json["mean_axis_deg"] = optional_json(a.mean_axis_tilt_deg);
-    tilt_json["amplitude_deg"] = optional_json(a.tilt_amplitude_deg);
-    tilt_json["trend_fraction"] = a.tilt_trend_fraction;
-    tilt_json.update(peak_json(a.tilt_peak, a.tilt_frequency_hz, a.tilt_strouhal));
-  }
-  j["tilt"] = tilt_json;
-
-  json rotation;
-  rotation["mean_body_rate"] = vector_json(a.mean_body_rotation_rate_si);
-  if (a.axis.kind != AxisKind::none) {
-    rotation["axis_net_rotation"] = a.axis_net_rotation;
-    rotation["axis_rotation_rate"] = a.axis_rotation_rate_si;
-    rotation["axis_rotation_monotonicity"] = a.axis_rotation_monotonicity;
-    rotation["rotation_axis_elevation_deg"] = a.axis_rotation_elevation_deg;
-  }
-  j["rotation"] = rotation;
-
-  // The runner's averages (coupling::RunSummary), over the analysis' window.
-  j["averaged_samples"] = a.window_samples;
-  j["mean_force"] = vector_json(a.mean_force_si);
-  j["mean_torque"] = vector_json(a.mean_torque_si);
-  j["mean_relative_flow"] = vector_json(-a.mean_velocity_si);
-  j["analysis_warnings"] = a.warnings;
-  return j;
 }
 
 }  // namespace settle::analysis

@@ -1,7 +1,8 @@
 #pragma once
-// Observables of a settling run (issue 6) and the whole analysis of one run: terminal state,
+// Observables of a settling run and the whole analysis of one run: terminal state,
 // averages over the terminal window, dimensionless groups, drag, tilt, lateral motion and its
-// spectrum, rotation, and the regime (regime.hpp). docs/analysis.md lists every definition.
+// spectrum (spectrum.hpp), rotation, and the regime (regime_evidence.hpp, regime.hpp); its JSON is
+// analysis_json.hpp. docs/analysis.md lists every definition.
 //
 // Conventions: SI units; inertial frame with gravity g (any direction; "down" is g/|g|, the
 // vertical the line along g, "lateral" or horizontal the plane normal to it); body frame and
@@ -19,11 +20,12 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <nlohmann/json_fwd.hpp>
 
 #include "analysis/regime.hpp"
+#include "analysis/spectrum.hpp"
 #include "analysis/terminal_state.hpp"
 #include "analysis/timeseries.hpp"
+#include "common/physical_defaults.hpp"
 
 namespace settle::body {
 class Shape;
@@ -54,10 +56,10 @@ BodyAxis body_axis(const body::MassProperties& mass_properties);
 
 /// What the analysis needs to know of the particle and the fluid, SI.
 struct ParticleProperties {
-  double fluid_density_si = 998.2;
-  double dynamic_viscosity_si = 1.0e-3;
-  Eigen::Vector3d gravity_si{0.0, 0.0, -9.81};
-  double particle_density_si = 1050.0;
+  double fluid_density_si = defaults::fluid_density_si;
+  double dynamic_viscosity_si = defaults::dynamic_viscosity_si;
+  Eigen::Vector3d gravity_si{0.0, 0.0, -defaults::gravity_si};
+  double particle_density_si = defaults::particle_density_si;
   double volume_si = 0.0;
   double equivalent_diameter_si = 0.0;  ///< (6 V / pi)^(1/3)
   BodyAxis axis;
@@ -77,23 +79,6 @@ ParticleProperties particle_properties(std::shared_ptr<const body::Shape> shape,
                                        const Eigen::Vector3d& gravity_si);
 /// Properties of a run's particle and fluid.
 ParticleProperties particle_properties(const coupling::SimulationSetup& setup);
-
-/// The dominant frequency of a (possibly vector) signal: the peak of the summed power spectra
-/// of its components, each with its Hann-weighted mean removed and a Hann window applied,
-/// after linear resampling onto a uniform grid of min(n, 4096) points. The peak bin is refined
-/// by maximising the windowed Fourier transform between its neighbours (golden section), so the
-/// frequency is not limited to the bin spacing 1/T.
-struct SpectralPeak {
-  /// false for fewer than 4 samples or a constant signal (fluctuations below 1e-12 of its
-  /// largest value: round-off)
-  bool found = false;
-  double frequency_hz = 0.0;
-  /// Fraction of the fluctuation power in the bins within two bins of the peak (the main lobe
-  /// of the Hann window: about 1 for a sinusoid, small for broadband signals).
-  double concentration = 0.0;
-  double cycles = 0.0;  ///< frequency times the signal's duration
-};
-SpectralPeak spectral_peak(const std::vector<double>& t_si, const std::vector<std::vector<double>>& components);
 
 /// Parameters of the analysis, with their defaults.
 struct AnalysisOptions {
@@ -186,9 +171,5 @@ struct Analysis {
 /// naming fluid.gravity when gravity is zero.
 Analysis analyse(const SettlingSeries& series, const ParticleProperties& properties,
                  const AnalysisOptions& options = {});
-
-/// The fields of summary.json the analysis owns (docs/analysis.md), keys in a fixed order;
-/// quantities that are undefined (e.g. I* of a non-disk) are null.
-nlohmann::ordered_json to_json(const Analysis& analysis);
 
 }  // namespace settle::analysis

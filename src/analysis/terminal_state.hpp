@@ -1,5 +1,5 @@
 #pragma once
-// Terminal-state detection (issue 5): the particle has reached its terminal state when the
+// Terminal-state detection: the particle has reached its terminal state when the
 // mean velocity over a window of several particle response times no longer changes.
 //
 // Criterion. With W the window length, the detector compares, at every sample time t, the

@@ -1,5 +1,5 @@
 #pragma once
-// A run's timeseries.csv (DESIGN.md section 3, written by io/output_files.cpp), read back for
+// A run's timeseries.csv (docs/architecture.md, "Contracts"; written by io/output_files.cpp), read back for
 // analysis: first as named columns of numbers (Timeseries), then as the typed settling series
 // the analysis works on (SettlingSeries).
 #include <filesystem>

@@ -3,7 +3,6 @@
 // (timeseries.csv, case.resolved.toml, summary.json), merges the analysis fields into
 // summary.json (every other field kept; temporary file and rename) and prints a short report,
 // or the analysis fields as JSON with --json. Definitions: docs/analysis.md.
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,7 +18,9 @@
 #include "analysis/observables.hpp"
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
+#include "app/flag_values.hpp"
 #include "app/summary_fields.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
 #include "io/case.hpp"
@@ -38,15 +39,6 @@ struct AnalyzeOptions {
   bool json_output = false;
   std::optional<std::string> window, tolerance, response_time;
 };
-
-double parse_number(const std::string& text, const std::string& flag) {
-  double value = 0.0;
-  const char* end = text.data() + text.size();
-  const auto [stop, ec] = std::from_chars(text.data(), end, value);
-  if (ec != std::errc() || stop != end || !std::isfinite(value))
-    throw InputError(fmt::format("{}: expected a finite number, got '{}'", flag, text));
-  return value;
-}
 
 analysis::AnalysisOptions analysis_options(const AnalyzeOptions& o) {
   analysis::AnalysisOptions options;
@@ -164,7 +156,7 @@ void analyze(const AnalyzeOptions& options) {
 
   const json fields = analysis_summary_fields(setup, result);
   for (const auto& [key, value] : fields.items()) summary[key] = value;
-  io::write_file_atomically(summary_path, summary.dump(2) + "\n");
+  write_file_atomically(summary_path, summary.dump(2) + "\n");
   if (options.json_output)
     std::cout << fields.dump(2) << "\n";
   else

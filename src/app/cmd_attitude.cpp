@@ -1,7 +1,7 @@
 // `settle attitude`: torque-free rigid-body rotation from initial body rates, or attitude
 // reconstruction from a body-rate time series, by the dual-Euler whole-attitude solver
 // (Cheng et al. 2023, doi:10.1063/5.0165555, supplementary material) or the unit-quaternion
-// reference (DESIGN.md section 3; docs/attitude.md).
+// reference (docs/architecture.md, "Contracts"; docs/attitude.md).
 #include <algorithm>
 #include <charconv>
 #include <cmath>

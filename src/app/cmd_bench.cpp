@@ -1,5 +1,5 @@
 // `settle bench`: throughput of the fluid kernel on a periodic box, reported against this
-// machine's memory bandwidth measured in the same run (DESIGN.md section 3).
+// machine's memory bandwidth measured in the same run (docs/architecture.md, "Contracts"; docs/lbm.md).
 #include <omp.h>
 
 #include <algorithm>

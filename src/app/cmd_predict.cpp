@@ -18,10 +18,13 @@
 
 #include "analysis/correlations.hpp"
 #include "app/commands.hpp"
+#include "app/flag_values.hpp"
+#include "app/shape_flags.hpp"
 #include "app/summary_fields.hpp"
 #include "attitude/attitude.hpp"
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
+#include "common/physical_defaults.hpp"
 #include "io/case.hpp"
 
 namespace settle::app {
@@ -33,7 +36,7 @@ using json = nlohmann::ordered_json;  // keys in the order written
 // Raw flag values; parsed and validated in run() so that every message names its flag.
 struct PredictOptions {
   std::string case_file;
-  std::optional<std::string> shape, diameter, aspect_ratio, semi_axes, length, size, exponents, mesh, scale;
+  ShapeFlags shape;
   std::optional<std::string> density, fluid_density, viscosity, gravity, euler;
   std::string orientation = "broadside";
   std::optional<std::string> powers_roundness;
@@ -50,79 +53,17 @@ struct Problem {
 
 // ------------------------------------------------------------------ parsing
 
-double parse_number(const std::string& text, const std::string& flag) {
-  double value = 0.0;
-  const char* end = text.data() + text.size();
-  const auto [stop, ec] = std::from_chars(text.data(), end, value);
-  if (ec != std::errc() || stop != end || !std::isfinite(value)) {
-    throw InputError(fmt::format("{}: expected a finite number, got '{}'", flag, text));
-  }
-  return value;
-}
-
-double positive_number(const std::string& text, const std::string& flag) {
-  const double value = parse_number(text, flag);
-  if (!(value > 0.0)) throw InputError(fmt::format("{}: must be > 0, got {}", flag, text));
-  return value;
-}
-
-template <std::size_t N>
-std::array<double, N> parse_list(const std::string& text, const std::string& flag) {
-  std::vector<std::string> parts(1);
-  for (char c : text) {
-    if (c == ',') parts.emplace_back();
-    else parts.back() += c;
-  }
-  if (parts.size() != N) throw InputError(fmt::format("{}: expected {} comma-separated numbers, got '{}'", flag, N, text));
-  std::array<double, N> values{};
-  for (std::size_t i = 0; i < N; ++i) values[i] = parse_number(parts[i], flag);
-  return values;
-}
-
-// The command-line flag of each [particle] shape key, for the shape factory's messages.
-std::string flag_of(std::string_view key) {
-  if (key == "file") return "--mesh";
-  std::string flag = "--" + std::string(key);
-  for (char& c : flag) c = c == '_' ? '-' : c;
-  return flag;
-}
-
 // The flags that describe the particle or fluid, e.g. "--shape, --density" (empty if none).
 std::string particle_flags_given(const PredictOptions& o) {
   const std::pair<const char*, bool> flags[] = {
-      {"--shape", o.shape.has_value()},       {"--diameter", o.diameter.has_value()},
-      {"--aspect-ratio", o.aspect_ratio.has_value()}, {"--semi-axes", o.semi_axes.has_value()},
-      {"--length", o.length.has_value()},     {"--size", o.size.has_value()},
-      {"--exponents", o.exponents.has_value()}, {"--mesh", o.mesh.has_value()},
-      {"--scale", o.scale.has_value()},       {"--density", o.density.has_value()},
-      {"--fluid-density", o.fluid_density.has_value()}, {"--viscosity", o.viscosity.has_value()},
-      {"--gravity", o.gravity.has_value()},   {"--euler", o.euler.has_value()}};
-  std::string given;
+      {"--density", o.density.has_value()},   {"--fluid-density", o.fluid_density.has_value()},
+      {"--viscosity", o.viscosity.has_value()}, {"--gravity", o.gravity.has_value()},
+      {"--euler", o.euler.has_value()}};
+  std::string given = shape_flags_given(o.shape);
   for (const auto& [flag, present] : flags) {
     if (present) given += (given.empty() ? "" : ", ") + std::string(flag);
   }
   return given;
-}
-
-body::ShapeSpec spec_from_flags(const PredictOptions& o) {
-  body::ShapeSpec spec;
-  if (o.mesh) {
-    if (o.shape && *o.shape != "mesh") throw InputError(fmt::format("--mesh: cannot be used with --shape {}", *o.shape));
-    spec.shape = "mesh";
-    spec.file = *o.mesh;
-  } else if (o.shape) {
-    spec.shape = *o.shape;
-  } else {
-    throw InputError("--shape: give a shape (sphere, spheroid, ellipsoid, cylinder, cuboid, superellipsoid) or --mesh FILE");
-  }
-  if (o.diameter) spec.diameter = parse_number(*o.diameter, "--diameter");
-  if (o.aspect_ratio) spec.aspect_ratio = parse_number(*o.aspect_ratio, "--aspect-ratio");
-  if (o.length) spec.length = parse_number(*o.length, "--length");
-  if (o.scale) spec.scale = parse_number(*o.scale, "--scale");
-  if (o.semi_axes) spec.semi_axes = parse_list<3>(*o.semi_axes, "--semi-axes");
-  if (o.size) spec.size = parse_list<3>(*o.size, "--size");
-  if (o.exponents) spec.exponents = parse_list<2>(*o.exponents, "--exponents");
-  return spec;
 }
 
 double required_positive(const std::optional<std::string>& text, const char* flag, const char* what) {
@@ -146,14 +87,12 @@ double parse_roundness(const PredictOptions& o) {
 // ------------------------------------------------------------------ the particle
 
 Problem problem_from_flags(const PredictOptions& o, analysis::Orientation orientation, double roundness) {
-  body::ShapeFactoryOptions factory;
-  factory.key_name = flag_of;
-  const std::unique_ptr<body::Shape> shape = body::make_shape(spec_from_flags(o), factory);
+  const std::unique_ptr<body::Shape> shape = body::make_shape(shape_spec_from_flags(o.shape), flag_shape_options());
   Problem p;
   const double density = required_positive(o.density, "--density", "particle density, kg/m^3");
   p.fluid_density_si = required_positive(o.fluid_density, "--fluid-density", "fluid density, kg/m^3");
   p.dynamic_viscosity_si = required_positive(o.viscosity, "--viscosity", "dynamic viscosity, Pa s");
-  p.gravity_si = o.gravity ? positive_number(*o.gravity, "--gravity") : 9.81;
+  p.gravity_si = o.gravity ? positive_number(*o.gravity, "--gravity") : defaults::gravity_si;
   if (density == p.fluid_density_si) {
     throw InputError(fmt::format("--density: must differ from --fluid-density ({}), else nothing settles", *o.fluid_density));
   }
@@ -165,28 +104,6 @@ Problem problem_from_flags(const PredictOptions& o, analysis::Orientation orient
   }
   p.particle = analysis::describe_particle(*shape, density, orientation, fall_body, roundness);
   return p;
-}
-
-// The shape keys of a checked case (the same mapping as io::simulation_setup).
-body::ShapeSpec shape_spec_of(const io::CaseValues& v) {
-  const auto array3 = [&](std::string_view key) {
-    const auto& x = v.reals(key);
-    return std::array<double, 3>{x[0], x[1], x[2]};
-  };
-  body::ShapeSpec spec;
-  spec.shape = v.string("particle.shape");
-  if (v.has("particle.diameter")) spec.diameter = v.real("particle.diameter");
-  if (v.has("particle.aspect_ratio")) spec.aspect_ratio = v.real("particle.aspect_ratio");
-  if (v.has("particle.semi_axes")) spec.semi_axes = array3("particle.semi_axes");
-  if (v.has("particle.exponents")) {
-    const auto& e = v.reals("particle.exponents");
-    spec.exponents = std::array<double, 2>{e[0], e[1]};
-  }
-  if (v.has("particle.length")) spec.length = v.real("particle.length");
-  if (v.has("particle.size")) spec.size = array3("particle.size");
-  if (v.has("particle.file")) spec.file = v.string("particle.file");
-  if (v.given("particle.scale")) spec.scale = v.real("particle.scale");
-  return spec;
 }
 
 Eigen::Vector3d vector3_of(const io::CaseValues& v, std::string_view key) {
@@ -201,7 +118,7 @@ Problem problem_from_case(const fs::path& path, analysis::Orientation orientatio
   try {
     body::ShapeFactoryOptions factory;
     factory.base_directory = fs::absolute(path).parent_path();
-    const std::unique_ptr<body::Shape> shape = body::make_shape(shape_spec_of(values), factory);
+    const std::unique_ptr<body::Shape> shape = body::make_shape(io::shape_spec(values), factory);
     Problem p;
     p.fluid_density_si = values.real("fluid.density");
     p.dynamic_viscosity_si = values.real("fluid.dynamic_viscosity");
@@ -291,20 +208,7 @@ void add_predict_command(CLI::App& app) {
       "or from flags; SI units.");
   cmd->add_option("case", options->case_file, "case file (TOML) whose [fluid] and [particle] tables are used")
       ->type_name("CASE.toml");
-  cmd->add_option("--shape", options->shape, "sphere | spheroid | ellipsoid | cylinder | cuboid | superellipsoid | mesh")
-      ->type_name("NAME");
-  cmd->add_option("--diameter", options->diameter, "sphere, spheroid (equatorial) and cylinder diameter, m")
-      ->type_name("D");
-  cmd->add_option("--aspect-ratio", options->aspect_ratio, "spheroid: polar / equatorial diameter (symmetry axis z)")
-      ->type_name("A");
-  cmd->add_option("--semi-axes", options->semi_axes, "ellipsoid, superellipsoid: semi-axes along body x,y,z, m")
-      ->type_name("a,b,c");
-  cmd->add_option("--length", options->length, "cylinder length along body z, m")->type_name("L");
-  cmd->add_option("--size", options->size, "cuboid edge lengths along body x,y,z, m")->type_name("a,b,c");
-  cmd->add_option("--exponents", options->exponents, "superellipsoid exponents in [0.1, 2] (Barr's convention)")
-      ->type_name("e1,e2");
-  cmd->add_option("--mesh", options->mesh, "watertight STL file; implies --shape mesh")->type_name("FILE");
-  cmd->add_option("--scale", options->scale, "mesh: factor from file units to metres (default 1)")->type_name("S");
+  add_shape_flags(*cmd, options->shape, ", m", "metres");
   cmd->add_option("--density", options->density, "particle density, kg/m^3 (required without a case)")
       ->type_name("RHO_P");
   cmd->add_option("--fluid-density", options->fluid_density, "fluid density, kg/m^3 (required without a case)")

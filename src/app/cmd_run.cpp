@@ -1,5 +1,5 @@
 // `settle run [CASE.toml] [-o DIR] [--set key=value]... [--threads N] [--max-memory GIB]`
-// (DESIGN.md section 3): loads and checks the case, runs the preflight checks (io/preflight.hpp,
+// (docs/architecture.md, "Outputs"): loads and checks the case, runs the preflight checks (io/preflight.hpp,
 // docs/errors.md), converts units, runs the coupled simulation and writes DIR/timeseries.csv,
 // DIR/summary.json and DIR/case.resolved.toml (docs/coupling.md).
 //
@@ -28,6 +28,8 @@
 #include "app/run_checkpoints.hpp"
 #include "app/console.hpp"
 #include "app/summary_fields.hpp"
+#include "body/surface_triangulation.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "coupling/health.hpp"
 #include "coupling/runner.hpp"
@@ -36,6 +38,7 @@
 #include "io/case.hpp"
 #include "io/output_files.hpp"
 #include "io/preflight.hpp"
+#include "io/pvd.hpp"
 #include "io/vtk.hpp"
 #include "lbm/config.hpp"
 
@@ -127,18 +130,13 @@ std::string derived_block(const coupling::Simulation& sim) {
 
 nlohmann::json vector_json(const Eigen::Vector3d& v) { return nlohmann::json::array({v[0], v[1], v[2]}); }
 
-nlohmann::json summary_json(const coupling::Simulation& sim, const coupling::RunResult& result,
-                            const coupling::RunSummary& summary, const std::vector<std::string>& warnings) {
+// What the run itself reports: the case, the converter's numbers, the loop's figures and timing.
+nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResult& result,
+                        const std::vector<std::string>& warnings) {
   const auto& d = sim.derived();
   nlohmann::json j;
   j["case"] = sim.setup().name;
   j["motion"] = motion_name(sim.body().motion_kind());
-  j["terminal_velocity"] = summary.terminal_velocity_si;
-  j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
-  j["reynolds"] = summary.reynolds;
-  j["drag_coefficient"] = summary.drag_coefficient;
-  j["galileo"] = summary.galileo;
-  j["regime"] = summary.regime;
   j["cells"] = d.cells[0] * static_cast<long long>(d.cells[1]) * d.cells[2];
   j["grid"] = {d.cells[0], d.cells[1], d.cells[2]};
   j["dx"] = d.dx_si;
@@ -161,6 +159,19 @@ nlohmann::json summary_json(const coupling::Simulation& sim, const coupling::Run
   nlohmann::json timing = nlohmann::json::object();
   for (const auto& [name, seconds] : sim.timers().entries()) timing[name] = seconds;
   j["timing"] = timing;
+  j["warnings"] = warnings;
+  return j;
+}
+
+// The run loop's averages over the second half (coupling::summarise): the results of fixed and
+// towed bodies, and of a free body whose analysis could not be made.
+void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary) {
+  j["terminal_velocity"] = summary.terminal_velocity_si;
+  j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+  j["reynolds"] = summary.reynolds;
+  j["drag_coefficient"] = summary.drag_coefficient;
+  j["galileo"] = summary.galileo;
+  j["regime"] = summary.regime;
   j["averaged_samples"] = summary.averaged_samples;
   j["mean_force"] = vector_json(summary.mean_force_si);
   j["mean_torque"] = vector_json(summary.mean_torque_si);
@@ -169,8 +180,6 @@ nlohmann::json summary_json(const coupling::Simulation& sim, const coupling::Run
     j["lift_coefficient"] = summary.lift_coefficient;
     j["torque_coefficient"] = summary.torque_coefficient;
   }
-  j["warnings"] = warnings;
-  return j;
 }
 
 // VTK output on its own schedule (run.vtk_interval; docs/vtk.md): DIR/vtk/fluid_NNNNNN.vti with the
@@ -182,7 +191,7 @@ class VtkOutput {
         dir_(dir / "vtk"),
         schedule_(interval_si),
         // Triangles about a cell wide: the surface at the resolution the fluid sees.
-        surface_b_(io::surface_triangulation(*sim.setup().shape, sim.units().dx_si())),
+        surface_b_(body::surface_triangulation(*sim.setup().shape, sim.units().dx_si())),
         fluid_pvd_(dir_ / "fluid.pvd"),
         surface_pvd_(dir_ / "surface.pvd") {
     std::error_code error;
@@ -249,20 +258,23 @@ std::optional<analysis::TerminalStateDetector> terminal_detector(const io::CaseV
 }
 
 // Free bodies: the analysis of `settle analyze` (terminal state, observables, regime,
-// correlations) on the series just written. The run itself succeeded: an analysis that cannot be
-// made (too few samples, say) becomes a warning in summary.json rather than a failed run.
-void add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim, const fs::path& timeseries,
+// correlations) on the series just written; true when it was added. The run itself succeeded: an
+// analysis that cannot be made (too few samples, say) becomes a warning in summary.json rather
+// than a failed run.
+bool add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim, const fs::path& timeseries,
                   Console& console) {
-  if (sim.body().motion_kind() != body::MotionKind::free) return;
+  if (sim.body().motion_kind() != body::MotionKind::free) return false;
   try {
     const analysis::Analysis result = analyse_timeseries(sim.setup(), timeseries, analysis::AnalysisOptions{});
     const nlohmann::ordered_json fields = analysis_summary_fields(sim.setup(), result);
     for (const auto& [key, value] : fields.items()) summary_document[key] = value;
+    return true;
   } catch (const std::exception& e) {
     const std::string warning = fmt::format("analysis not made: {} (settle analyze can retry with other options)",
                                             e.what());
     console.warning(warning);
     summary_document["warnings"].push_back(warning);
+    return false;
   }
 }
 
@@ -283,15 +295,17 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
 }
 
 // summary.json, the run's completion mark (file comment): the loop's figures, the reference the
-// case names, and for free bodies the analysis with the correlations.
+// case names, and the results. Each result is computed once: for a free body by the analysis with
+// the correlations, otherwise (or when the analysis cannot be made) from the loop's averages.
 nlohmann::json write_summary(const io::CaseValues& values, const coupling::Simulation& sim,
                              const coupling::RunResult& result, const std::vector<std::string>& warnings,
                              const fs::path& dir, Console& console) {
-  nlohmann::json summary_document = summary_json(sim, result, coupling::summarise(sim, result), warnings);
+  nlohmann::json summary_document = run_json(sim, result, warnings);
   // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
   if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
-  add_analysis(summary_document, sim, dir / "timeseries.csv", console);
-  io::write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
+  if (!add_analysis(summary_document, sim, dir / "timeseries.csv", console))
+    add_run_averages(summary_document, coupling::summarise(sim, result));
+  write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
   return summary_document;
 }
 
@@ -339,7 +353,7 @@ void run_case(const RunOptions& options) {
   const std::string resolved_case =
       restart ? restart->resolved_case()
               : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
-  io::write_file_atomically(dir / "case.resolved.toml", resolved_case);
+  write_file_atomically(dir / "case.resolved.toml", resolved_case);
   if (!restart) remove_earlier_checkpoint(dir);
 
   io::TimeseriesWriter timeseries =

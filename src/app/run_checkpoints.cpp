@@ -1,14 +1,13 @@
 #include "app/run_checkpoints.hpp"
 
-#include <fcntl.h>
 #include <fmt/core.h>
 #include <omp.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <limits>
 #include <utility>
 
+#include "common/atomic_file.hpp"
 #include "io/case_schema.hpp"
 
 namespace settle::app {
@@ -112,13 +111,11 @@ const std::vector<std::byte>& blob(const coupling::CheckpointCallerData& caller,
 
 // The rows of timeseries.csv up to now reach the disk before the checkpoint that counts them does.
 void sync_to_disk(const fs::path& file) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0)
-    throw io::CheckpointError(fmt::format("{}: cannot open it to flush it before the checkpoint", file.string()));
-  const bool synced = ::fsync(fd) == 0;
-  ::close(fd);
-  if (!synced)
-    throw io::CheckpointError(fmt::format("{}: cannot flush it to the disk before the checkpoint", file.string()));
+  try {
+    sync_file_to_disk(file);
+  } catch (const InputError& e) {
+    throw io::CheckpointError(fmt::format("before the checkpoint: {}", e.what()));
+  }
 }
 
 std::atomic<int> g_stop_signal{0};

@@ -4,6 +4,7 @@
 
 #include <fmt/core.h>
 
+#include "analysis/analysis_json.hpp"
 #include "analysis/timeseries.hpp"
 #include "common/error.hpp"
 

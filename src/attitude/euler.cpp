@@ -117,7 +117,8 @@ Eigen::Vector3d angle_rates(EulerSet set, const Eigen::Vector3d& angles,
 // in the reconstructed matrix, while the cosine entries still carry the angle to full
 // precision. atan2 also needs no clamping of a rounded argument slightly beyond [-1, 1].
 //
-// The first two angles follow DESIGN.md (two-argument arctangents of matrix entries). The
+// The first two angles are the supplement's, with two-argument arctangents of matrix entries
+// (docs/architecture.md, "Frames and attitude"). The
 // third is taken from what is left of the matrix once the other two rotations are
 // removed. Away from the singular point that equals the seed's formula (psi = atan2(z21, z11),
 // psi_r = atan2(-z12, z22)) algebraically; at and near the singular point the seed's

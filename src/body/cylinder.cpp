@@ -8,15 +8,10 @@
 
 #include "body/carlson.hpp"
 #include "common/error.hpp"
+#include "common/require.hpp"
 
 namespace settle::body {
 namespace {
-
-void require_positive(double value, const char* name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw InputError(fmt::format("cylinder: {} must be finite and > 0, got {}", name, value));
-  }
-}
 
 // Unit radial direction of p, or x when p is on the axis.
 Eigen::Vector3d radial_unit(const Eigen::Vector3d& p) {
@@ -45,8 +40,8 @@ void add_cap(SurfaceMarkers& markers, double radius, double z, double normal_z, 
 }  // namespace
 
 Cylinder::Cylinder(double diameter, double length) : radius_(0.5 * diameter), length_(length) {
-  require_positive(diameter, "diameter");
-  require_positive(length, "length");
+  require_positive(diameter, "cylinder diameter");
+  require_positive(length, "cylinder length");
 }
 
 bool Cylinder::contains(const Eigen::Vector3d& p) const {

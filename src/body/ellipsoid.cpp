@@ -10,6 +10,7 @@
 #include "body/carlson.hpp"
 #include "body/cube_sphere.hpp"
 #include "body/surface_markers.hpp"
+#include "common/bisection.hpp"
 #include "common/error.hpp"
 
 namespace settle::body {
@@ -20,23 +21,20 @@ namespace {
 // case of doubles, about 60 in practice.
 template <int N>
 double bisect_multiplier(const std::array<double, N>& r, const std::array<double, N>& z, double lower, double upper) {
-  for (int step = 0; step < 1200; ++step) {
-    const double mid = 0.5 * (lower + upper);
-    if (mid == lower || mid == upper) return mid;
+  const auto side = [&](double s) {
     double g = -1.0;
     for (int i = 0; i < N; ++i) {
-      const double ratio = r[i] * z[i] / (mid + r[i]);
+      const double ratio = r[i] * z[i] / (s + r[i]);
       g += ratio * ratio;
     }
-    if (g > 0.0) {
-      lower = mid;
-    } else if (g < 0.0) {
-      upper = mid;
-    } else {
-      return mid;
-    }
-  }
-  return 0.5 * (lower + upper);
+    if (g > 0.0) return BisectionSide::below;
+    return g < 0.0 ? BisectionSide::above : BisectionSide::at_root;
+  };
+  const auto midpoint_is_an_end = [](double lo, double hi) {
+    const double mid = arithmetic_midpoint(lo, hi);
+    return mid == lo || mid == hi;
+  };
+  return bisect({lower, upper}, side, midpoint_is_an_end, 1200).middle();
 }
 
 // Closest point on the ellipse (x/e0)^2 + (y/e1)^2 = 1, e0 >= e1 > 0, to (y0, y1) >= 0.

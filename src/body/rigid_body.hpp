@@ -5,7 +5,7 @@
 // (Cheng et al. 2023, Phys. Fluids 35, doi:10.1063/5.0165555, supplementary material).
 //
 // Conventions: inertial frame n (z up in settle's cases, gravity a free vector), body frame
-// b (the shape's own axes, DESIGN.md section 3). Positions, velocities, forces and torques
+// b (the shape's own axes; docs/architecture.md, "Frames and attitude"). Positions, velocities, forces and torques
 // are inertial; the angular velocity and the inertia tensor are body-frame; the attitude maps
 // body to inertial (v_n = C_b^n v_b). Torques are about the centre of mass (or, for a body
 // on a fixed pivot, about the pivot with the inertia tensor taken about it).
@@ -16,7 +16,7 @@
 //    external-wrench function at every stage. For forces that are known functions of time
 //    and state (tests, a heavy top, the attitude command). Fourth order.
 //
-// 2. The coupled time step's split (DESIGN.md section 1), for a wrench that is only known
+// 2. The coupled time step's split (docs/architecture.md, "The coupled time step"), for a wrench that is only known
 //    once per step because it comes from the fluid:
 //      step 1, predict_pose(dt): where the body will be at t + dt if its current velocities
 //        are kept (x + v dt; the attitude advanced by the dual-Euler solver with omega_b held

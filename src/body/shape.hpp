@@ -1,7 +1,8 @@
 #pragma once
 // The common interface of every particle shape (analytic or mesh).
 //
-// Body frame: the shape's own frame with its origin at the centroid (DESIGN.md section 3): a
+// Body frame: the shape's own frame with its origin at the centroid (docs/architecture.md, "Frames and
+// attitude"): a
 // spheroid's and a cylinder's symmetry axis is body z; an ellipsoid's semi_axes and a cuboid's
 // size lie along body x, y, z; a mesh keeps its file's axes with the origin moved to the
 // centroid. Every point and direction passed to or returned by a Shape is in the body frame,

@@ -1,5 +1,5 @@
 #pragma once
-// Building a shape from the case file's [particle] keys (DESIGN.md section 3): shape,
+// Building a shape from the case file's [particle] keys (docs/architecture.md, "Case file"): shape,
 // diameter, aspect_ratio, semi_axes, exponents, length, size, file, scale.
 #include <array>
 #include <filesystem>

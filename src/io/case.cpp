@@ -89,20 +89,6 @@ std::array<double, N> array_of(const CaseValues& v, std::string_view key) {
   return a;
 }
 
-body::ShapeSpec shape_spec(const CaseValues& v) {
-  body::ShapeSpec spec;
-  spec.shape = v.string("particle.shape");
-  if (v.has("particle.diameter")) spec.diameter = v.real("particle.diameter");
-  if (v.has("particle.aspect_ratio")) spec.aspect_ratio = v.real("particle.aspect_ratio");
-  if (v.has("particle.semi_axes")) spec.semi_axes = array_of<3>(v, "particle.semi_axes");
-  if (v.has("particle.exponents")) spec.exponents = array_of<2>(v, "particle.exponents");
-  if (v.has("particle.length")) spec.length = v.real("particle.length");
-  if (v.has("particle.size")) spec.size = array_of<3>(v, "particle.size");
-  if (v.has("particle.file")) spec.file = v.string("particle.file");
-  if (v.has("particle.scale")) spec.scale = v.real("particle.scale");
-  return spec;
-}
-
 body::MotionKind motion_kind(const std::string& name) {
   if (name == "towed") return body::MotionKind::towed;
   if (name == "fixed") return body::MotionKind::fixed;
@@ -118,7 +104,19 @@ lbm::Boundary wall(const CaseValues& v, std::string_view key) {
 
 }  // namespace
 
-std::string_view default_case_toml() { return kDefaultCase; }
+body::ShapeSpec shape_spec(const CaseValues& v) {
+  body::ShapeSpec spec;
+  spec.shape = v.string("particle.shape");
+  if (v.has("particle.diameter")) spec.diameter = v.real("particle.diameter");
+  if (v.has("particle.aspect_ratio")) spec.aspect_ratio = v.real("particle.aspect_ratio");
+  if (v.has("particle.semi_axes")) spec.semi_axes = array_of<3>(v, "particle.semi_axes");
+  if (v.has("particle.exponents")) spec.exponents = array_of<2>(v, "particle.exponents");
+  if (v.has("particle.length")) spec.length = v.real("particle.length");
+  if (v.has("particle.size")) spec.size = array_of<3>(v, "particle.size");
+  if (v.has("particle.file")) spec.file = v.string("particle.file");
+  if (v.has("particle.scale")) spec.scale = v.real("particle.scale");
+  return spec;
+}
 
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
   CaseValues values = path.empty() ? parse_case(case_schema(), kDefaultCase, "built-in default case")

@@ -6,20 +6,22 @@
 #include <string_view>
 #include <vector>
 
+#include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
 #include "io/schema.hpp"
 
 namespace settle::io {
-
-/// TOML text of the built-in default case: a small free-settling, tilted prolate spheroid in
-/// water that runs in about a minute on two cores.
-std::string_view default_case_toml();
 
 /// Reads a case file (or the default case when `path` is empty), applies the --set overrides in
 /// order, then the fluid preset (io/fluid_presets.hpp: fluid.density and fluid.dynamic_viscosity
 /// from fluid.preset unless given). settle::InputError names the file or --set and the key on any
 /// problem.
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides);
+
+/// The shape keys of a checked case's [particle] table (shape, diameter, aspect_ratio, semi_axes,
+/// exponents, length, size, file, scale), for body::make_shape: the one reader of a case's shape,
+/// used by `settle run`, `settle shape` and `settle predict`.
+body::ShapeSpec shape_spec(const CaseValues& values);
 
 /// The simulation set-up of a checked case. Relative mesh paths are taken relative to
 /// `base_directory` (the case file's folder). Keys that depend on each other are checked here

@@ -1,5 +1,5 @@
 #pragma once
-// The declaration of every key a settle case file may hold (DESIGN.md section 3). This is the
+// The declaration of every key a settle case file may hold (docs/architecture.md, "Case file"). This is the
 // one place where keys, types, defaults, ranges, units and docs are written; the reader, the
 // resolved-case writer and the user guide's key table all come from it.
 #include "io/schema.hpp"

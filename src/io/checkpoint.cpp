@@ -9,10 +9,13 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <ostream>
 #include <stdexcept>
 #include <utility>
 
 #include <fmt/core.h>
+
+#include "common/atomic_file.hpp"
 
 namespace settle::io {
 namespace {
@@ -20,8 +23,6 @@ namespace {
 constexpr std::array<char, 8> kMagic{'S', 'E', 'T', 'T', 'L', 'E', 'C', 'K'};
 constexpr std::array<char, 8> kTrailer{'S', 'E', 'T', 'T', 'L', 'E', 'N', 'D'};
 constexpr std::uint32_t kHeaderBytes = 32;
-// One write() moves at most this much: Linux caps a single write near 2 GiB.
-constexpr std::size_t kMaxWriteBytes = std::size_t{1} << 30;
 
 using CrcTables = std::array<std::array<std::uint32_t, 256>, 8>;
 
@@ -51,40 +52,18 @@ class FileDescriptor {
   FileDescriptor(const FileDescriptor&) = delete;
   FileDescriptor& operator=(const FileDescriptor&) = delete;
   int get() const { return fd_; }
-  /// Closes now and reports the result (a delayed write error can surface at close).
-  bool close() {
-    const int result = ::close(fd_);
-    fd_ = -1;
-    return result == 0;
-  }
 
  private:
   int fd_;
 };
 
-void write_all(int fd, std::span<const std::byte> data, const std::filesystem::path& path) {
-  while (!data.empty()) {
-    const std::size_t chunk = std::min(data.size(), kMaxWriteBytes);
-    const ssize_t written = ::write(fd, data.data(), chunk);
-    if (written < 0 && errno == EINTR) continue;
-    if (written <= 0)
-      throw CheckpointError(fmt::format("{}: cannot write the checkpoint: {}", path.string(), system_error_text()));
-    data = data.subspan(static_cast<std::size_t>(written));
-  }
+void put(std::ostream& out, std::span<const std::byte> data) {
+  out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
 }
 
 template <class T>
 std::span<const std::byte> bytes_of(const T& value) {
   return std::as_bytes(std::span<const T>(&value, 1));
-}
-
-// Flushes a directory entry (the rename) to the disk: without it a power cut after the rename
-// can bring back the old name.
-void sync_directory(const std::filesystem::path& directory) {
-  const FileDescriptor dir(::open(directory.empty() ? "." : directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-  if (dir.get() < 0 || ::fsync(dir.get()) != 0)
-    throw CheckpointError(fmt::format("{}: cannot flush the directory after writing the checkpoint: {}",
-                                      directory.string(), system_error_text()));
 }
 
 template <class T>
@@ -132,12 +111,11 @@ void CheckpointWriter::write(const std::filesystem::path& file) const {
   std::uint64_t file_bytes = kHeaderBytes + kTrailer.size();
   for (const Section& s : sections_) file_bytes += 4 + s.name.size() + 8 + s.data.size() + 4;
 
-  std::filesystem::path temporary = file;
-  temporary += ".tmp";
-  FileDescriptor out(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
-  if (out.get() < 0)
-    throw CheckpointError(fmt::format("{}: cannot create the checkpoint: {}", temporary.string(), system_error_text()));
+  // The file layer (common/atomic_file.hpp) writes <file>.tmp, flushes it to the disk, renames it
+  // over the target and flushes the directory entry.
   try {
+    AtomicFile out(file);
+    std::ostream& stream = out.stream();
     std::array<std::byte, kHeaderBytes> header{};
     std::memcpy(header.data(), kMagic.data(), kMagic.size());
     const auto section_count = static_cast<std::uint32_t>(sections_.size());
@@ -147,7 +125,7 @@ void CheckpointWriter::write(const std::filesystem::path& file) const {
     std::memcpy(header.data() + 24, &section_count, 4);
     const std::uint32_t header_crc = crc32(std::span(header).first(28));
     std::memcpy(header.data() + 28, &header_crc, 4);
-    write_all(out.get(), header, temporary);
+    put(stream, header);
 
     for (const Section& s : sections_) {
       const auto name_bytes = static_cast<std::uint32_t>(s.name.size());
@@ -157,25 +135,19 @@ void CheckpointWriter::write(const std::filesystem::path& file) const {
       crc = crc32(name, crc);
       crc = crc32(bytes_of(data_bytes), crc);
       crc = crc32(s.data, crc);
-      write_all(out.get(), bytes_of(name_bytes), temporary);
-      write_all(out.get(), name, temporary);
-      write_all(out.get(), bytes_of(data_bytes), temporary);
-      write_all(out.get(), s.data, temporary);
-      write_all(out.get(), bytes_of(crc), temporary);
+      put(stream, bytes_of(name_bytes));
+      put(stream, name);
+      put(stream, bytes_of(data_bytes));
+      put(stream, s.data);
+      put(stream, bytes_of(crc));
     }
-    write_all(out.get(), std::as_bytes(std::span(kTrailer)), temporary);
-    if (::fsync(out.get()) != 0 || !out.close())
-      throw CheckpointError(
-          fmt::format("{}: cannot flush the checkpoint to the disk: {}", temporary.string(), system_error_text()));
-    if (::rename(temporary.c_str(), file.c_str()) != 0)
-      throw CheckpointError(fmt::format("{}: cannot rename the new checkpoint over {}: {}", temporary.string(),
-                                        file.string(), system_error_text()));
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
+    put(stream, std::as_bytes(std::span(kTrailer)));
+    out.commit();
+  } catch (const CheckpointError&) {
     throw;
+  } catch (const InputError& e) {
+    throw CheckpointError(fmt::format("cannot write the checkpoint: {}", e.what()));
   }
-  sync_directory(file.parent_path());
 }
 
 // ---------------------------------------------------------------- reading

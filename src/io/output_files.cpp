@@ -9,18 +9,6 @@
 
 namespace settle::io {
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(fmt::format("{}: cannot write", temporary.string()));
-    out << text;
-    if (!out.flush()) throw InputError(fmt::format("{}: write failed", temporary.string()));
-  }
-  std::filesystem::rename(temporary, path);
-}
-
 const std::vector<std::string>& timeseries_columns() {
   static const std::vector<std::string> columns{
       "t",     "x",     "y",       "z",       "ux",      "uy",        "uz", "wx", "wy", "wz",

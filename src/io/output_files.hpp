@@ -1,7 +1,7 @@
 #pragma once
-// Small writers for the run directory: whole files written atomically (temporary file plus
-// rename, so a reader never sees half a file), and the streaming timeseries.csv whose columns
-// are the contract of DESIGN.md section 3.
+// The streaming timeseries.csv of the run directory, whose columns are a contract
+// (docs/architecture.md, "Contracts"). Whole files (summary.json, case.resolved.toml) are written
+// with common/atomic_file.hpp.
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -13,11 +13,7 @@
 
 namespace settle::io {
 
-/// Writes `text` to `path` through `path` + ".tmp" and a rename (atomic on POSIX file systems).
-/// Throws settle::InputError naming the path when it cannot be written.
-void write_file_atomically(const std::filesystem::path& path, std::string_view text);
-
-/// The columns of timeseries.csv: the DESIGN.md contract (t .. Re), then extras (slip_max,
+/// The columns of timeseries.csv: the contract (t .. Re; docs/architecture.md, "Contracts"), then extras (slip_max,
 /// slip_rms: the largest and rms no-slip error at the markers after forcing, m/s; Fcx, Fcy, Fcz:
 /// the particle-wall contact force of the last step, N; wall_gap: the smallest body-wall gap of
 /// the last step, m, kNoWallGap without contact walls). New columns are only ever appended.

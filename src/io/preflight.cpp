@@ -17,6 +17,7 @@
 #include "coupling/runner.hpp"
 #include "body/contact.hpp"
 #include "common/error.hpp"
+#include "common/require.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
@@ -49,9 +50,6 @@ void require_finite(const Eigen::Vector3d& value, std::string_view key) {
     if (!std::isfinite(value[a]))
       throw InputError(fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1],
                                    value[2]));
-}
-void require_positive(double value, std::string_view key) {
-  if (!(std::isfinite(value) && value > 0.0)) throw InputError(fmt::format("{}: must be finite and > 0, got {}", key, value));
 }
 
 void check_numbers(const coupling::SimulationSetup& s) {

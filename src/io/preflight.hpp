@@ -1,5 +1,5 @@
 #pragma once
-// Checks of a case before anything large is allocated (issue 7): the run either starts with a
+// Checks of a case before anything large is allocated: the run either starts with a
 // set-up that can work, or stops with a settle::InputError that names the key (or flag) to
 // change, the value, and what is allowed. docs/errors.md lists every check with an example.
 //

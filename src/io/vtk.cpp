@@ -7,8 +7,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <functional>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -16,58 +14,14 @@
 
 #include <fmt/core.h>
 
-#include "body/cube_sphere.hpp"
-#include "body/mesh_shape.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
+#include "io/vtk_xml.hpp"
 
 namespace settle::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big,
-              "VTK files declare either little- or big-endian byte order");
-constexpr const char* kByteOrder = std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
-
-// ---------------------------------------------------------------------------------------------
-// Atomic files: written to "<path>.tmp" and renamed over <path> on commit(). Rename within one
-// directory is atomic on POSIX file systems; an uncommitted temporary is removed.
-
-class AtomicFile {
- public:
-  explicit AtomicFile(fs::path path) : path_(std::move(path)), temporary_(path_) {
-    temporary_ += ".tmp";
-    out_.open(temporary_, std::ios::binary | std::ios::trunc);
-    if (!out_) throw InputError(fmt::format("{}: cannot write (cannot create {})", path_.string(), temporary_.string()));
-  }
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-  ~AtomicFile() {
-    if (committed_) return;
-    out_.close();
-    std::error_code ignored;
-    fs::remove(temporary_, ignored);
-  }
-
-  std::ostream& stream() { return out_; }
-
-  void commit() {
-    out_.flush();
-    const bool written = static_cast<bool>(out_);
-    out_.close();
-    if (!written || out_.fail()) throw InputError(fmt::format("{}: cannot write (write failed)", path_.string()));
-    std::error_code error;
-    fs::rename(temporary_, path_, error);
-    if (error) throw InputError(fmt::format("{}: cannot write ({})", path_.string(), error.message()));
-    committed_ = true;
-  }
-
- private:
-  fs::path path_;
-  fs::path temporary_;
-  std::ofstream out_;
-  bool committed_ = false;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Appended raw data: each array is a UInt64 byte count followed by its values.
@@ -156,44 +110,7 @@ std::vector<std::uint64_t> appended_offsets(const std::vector<const AppendedArra
   return offsets;
 }
 
-std::string xml_escaped(const std::string& text) {
-  std::string escaped;
-  for (const char c : text) {
-    switch (c) {
-      case '&': escaped += "&amp;"; break;
-      case '<': escaped += "&lt;"; break;
-      case '>': escaped += "&gt;"; break;
-      case '"': escaped += "&quot;"; break;
-      case '\'': escaped += "&apos;"; break;
-      default: escaped += c;
-    }
-  }
-  return escaped;
-}
-
-std::string xml_unescaped(const std::string& text) {
-  static const std::array<std::pair<std::string_view, char>, 5> entities{
-      {{"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}}};
-  std::string plain;
-  for (std::size_t i = 0; i < text.size();) {
-    bool replaced = false;
-    for (const auto& [entity, c] : entities) {
-      if (text.compare(i, entity.size(), entity) == 0) {
-        plain += c;
-        i += entity.size();
-        replaced = true;
-        break;
-      }
-    }
-    if (!replaced) plain += text[i++];
-  }
-  return plain;
-}
-
-// The shortest text that reads back as the same double.
-std::string number(double value) { return fmt::format("{}", value); }
-
-std::string triple(const Eigen::Vector3d& v) { return fmt::format("{} {} {}", number(v(0)), number(v(1)), number(v(2))); }
+std::string triple(const Eigen::Vector3d& v) { return fmt::format("{} {} {}", vtk_number(v(0)), vtk_number(v(1)), vtk_number(v(2))); }
 
 std::string data_array_tag(const AppendedArray& array, std::uint64_t offset, bool field_data) {
   std::string tag = fmt::format(R"(<DataArray type="{}" Name="{}")", vtk_type_name(array.type), xml_escaped(array.name));
@@ -245,7 +162,7 @@ class VtkFileWriter {
 
 std::string file_header(const char* type) {
   return fmt::format("<?xml version=\"1.0\"?>\n<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n",
-                     type, kByteOrder);
+                     type, vtk_byte_order());
 }
 
 std::optional<AppendedArray> time_array(const VtkOptions& options) {
@@ -291,40 +208,6 @@ void check_extra_fields(std::span<const ScalarPointField> extra, std::size_t cel
       throw std::invalid_argument(fmt::format("write_fluid_vti: field {} has {} values for {} cells", field.name,
                                               field.values.size(), cells));
   }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Surface triangulation
-
-/// The point where the ray from the centroid along `direction` leaves the body, by bisection
-/// on the exact inside test (assumes the body is star-shaped about the centroid).
-Eigen::Vector3d ray_exit(const body::Shape& shape, const Eigen::Vector3d& direction) {
-  const Eigen::Vector3d d = direction.normalized();
-  const double radius = shape.bounding_radius();
-  double inside = 0.0;
-  // A little beyond the bounding radius is outside by its definition.
-  double outside = radius * (1.0 + 1e-6);
-  if (shape.contains(outside * d)) throw std::logic_error("surface_triangulation: bounding radius is too small");
-  // 1e-13 of the radius: far below anything a grid resolves, and some 500 ulp above the
-  // round-off of the inside tests of bodies of size ~1.
-  while (outside - inside > 1e-13 * radius) {
-    const double middle = 0.5 * (inside + outside);
-    (shape.contains(middle * d) ? inside : outside) = middle;
-  }
-  return 0.5 * (inside + outside) * d;
-}
-
-// Cube-sphere grid sizes: 1.6 h / max_edge cells per axis to start with (cube_sphere.cpp), which
-// refinement raises by at most about pi/2 (the equiangular grid's largest stretch).
-constexpr double kMaxTriangles = 1.0e7;
-
-void check_triangle_budget(const Eigen::Vector3d& half_extents, double max_edge) {
-  const Eigen::Vector3d cells = 1.6 * 1.6 * half_extents / max_edge + Eigen::Vector3d::Constant(2.0);
-  const double triangles = 4.0 * (cells(0) * cells(1) + cells(1) * cells(2) + cells(2) * cells(0));
-  if (triangles > kMaxTriangles)
-    throw std::invalid_argument(fmt::format(
-        "surface_triangulation: max_edge {} would need about {:.3g} triangles (limit {:.0g})", max_edge, triangles,
-        kMaxTriangles));
 }
 
 }  // namespace
@@ -393,20 +276,6 @@ std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const couplin
   return alpha;
 }
 
-body::TriangleMesh surface_triangulation(const body::Shape& shape, double max_edge) {
-  if (const auto* mesh = dynamic_cast<const body::MeshShape*>(&shape)) return mesh->body_mesh();
-  if (!std::isfinite(max_edge) || max_edge <= 0.0)
-    throw std::invalid_argument(fmt::format("surface_triangulation: max_edge must be finite and > 0, got {}", max_edge));
-  const body::Aabb box = shape.bounding_box();
-  const Eigen::Vector3d half_extents = box.lower.cwiseAbs().cwiseMax(box.upper.cwiseAbs());
-  check_triangle_budget(half_extents, max_edge);
-  if (!shape.contains(Eigen::Vector3d::Zero()))
-    throw std::logic_error("surface_triangulation: the centroid of a " + shape.kind() + " lies outside it");
-  return body::cube_sphere_mesh_with_max_edge(half_extents, max_edge, [&](const Eigen::Vector3d& u) {
-    return ray_exit(shape, half_extents.cwiseProduct(u));
-  });
-}
-
 BodySnapshot body_snapshot(const body::RigidBody& body) {
   BodySnapshot snapshot;
   snapshot.position_si = body.state().position_si;
@@ -463,74 +332,6 @@ void write_surface_vtp(const fs::path& path, const body::TriangleMesh& surface_b
   xml += "      <Polys>\n        " + writer.tag(connectivity) + "\n        " + writer.tag(offsets) + "\n      </Polys>\n";
   xml += "    </Piece>\n  </PolyData>\n";
   writer.write(path, xml);
-}
-
-// -----------------------------------------------------------------------------------------------
-// PvdCollection
-
-PvdCollection::PvdCollection(fs::path pvd_path) : path_(std::move(pvd_path)) {}
-
-PvdCollection PvdCollection::resume(fs::path pvd_path, double keep_until_time_si) {
-  PvdCollection collection(std::move(pvd_path));
-  const fs::path& path = collection.path_;
-  if (!fs::exists(path)) return collection;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read", path.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string content = text.str();
-  if (content.find("<VTKFile type=\"Collection\"") == std::string::npos)
-    throw InputError(fmt::format("{}: not a ParaView data collection (.pvd)", path.string()));
-
-  // Entries as rewrite() writes them: one DataSet element per line, timestep first, file last.
-  static const std::regex dataset(R"re(<DataSet timestep="([^"]*)"[^>]*\sfile="([^"]*)"\s*/>)re");
-  std::size_t dropped = 0;
-  for (auto it = std::sregex_iterator(content.begin(), content.end(), dataset); it != std::sregex_iterator(); ++it) {
-    const std::string time_text = (*it)[1].str();
-    char* end = nullptr;
-    const double time_si = std::strtod(time_text.c_str(), &end);
-    if (time_text.empty() || *end != '\0' || !std::isfinite(time_si))
-      throw InputError(fmt::format("{}: bad timestep \"{}\"", path.string(), time_text));
-    if (time_si > keep_until_time_si) {
-      ++dropped;
-      continue;
-    }
-    if (!collection.entries_.empty() && time_si <= collection.entries_.back().time_si)
-      throw InputError(fmt::format("{}: timesteps do not increase at {}", path.string(), time_text));
-    collection.entries_.push_back({time_si, xml_unescaped((*it)[2].str())});
-  }
-  if (dropped > 0) collection.rewrite();
-  return collection;
-}
-
-void PvdCollection::add(double time_si, const fs::path& file) {
-  if (!std::isfinite(time_si)) throw std::invalid_argument(fmt::format("PvdCollection::add: time {} is not finite", time_si));
-  if (!entries_.empty() && time_si <= entries_.back().time_si)
-    throw std::invalid_argument(fmt::format("PvdCollection::add: time {} does not follow the last entry's {}", time_si,
-                                            entries_.back().time_si));
-  const fs::path directory = fs::absolute(path_).lexically_normal().parent_path();
-  const fs::path absolute_file = fs::absolute(file).lexically_normal();
-  fs::path relative = absolute_file.lexically_relative(directory);
-  if (relative.empty()) relative = absolute_file;  // no relative route (e.g. another drive root)
-  entries_.push_back({time_si, relative.generic_string()});
-  try {
-    rewrite();
-  } catch (...) {
-    entries_.pop_back();  // the collection stays as the file on disk
-    throw;
-  }
-}
-
-void PvdCollection::rewrite() const {
-  AtomicFile file(path_);
-  std::ostream& out = file.stream();
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"" << kByteOrder
-      << "\">\n  <Collection>\n";
-  for (const Entry& entry : entries_)
-    out << fmt::format("    <DataSet timestep=\"{}\" part=\"0\" file=\"{}\"/>\n", number(entry.time_si),
-                       xml_escaped(entry.file));
-  out << "  </Collection>\n</VTKFile>\n";
-  file.commit();
 }
 
 }  // namespace settle::io

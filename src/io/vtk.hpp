@@ -1,7 +1,7 @@
 #pragma once
-// VTK XML output for ParaView (issue 5): the fluid on the grid as ImageData (.vti), the
-// particle's surface as PolyData (.vtp), and ParaView data collections (.pvd) that list them
-// in time. Format: the XML file formats of the VTK documentation ("VTK File Formats",
+// VTK XML output for ParaView: the fluid on the grid as ImageData (.vti) and the particle's
+// surface as PolyData (.vtp); ParaView data collections (.pvd) that list them in time are
+// pvd.hpp, the surface's triangulation is body/surface_triangulation.hpp. Format: the XML file formats of the VTK documentation ("VTK File Formats",
 // https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html; also in the VTK User's
 // Guide, Kitware).
 //
@@ -11,8 +11,8 @@
 // fast to write and read; ParaView reads it directly.
 //
 // Units: SI throughout (m, s, m/s, Pa, 1/s). Frames: the inertial frame of the case (z up).
-// Every file is written atomically (a temporary file next to it, then a rename), so a reader or a
-// run that stops never sees half a file. A file that cannot be written raises settle::InputError
+// Every file is written atomically and durably (common/atomic_file.hpp), so a reader or a run that
+// stops never sees half a file. A file that cannot be written raises settle::InputError
 // naming its path. The caller creates the output directory.
 #include <cstddef>
 #include <filesystem>
@@ -24,7 +24,6 @@
 #include <Eigen/Core>
 
 #include "body/rigid_body.hpp"
-#include "body/shape.hpp"
 #include "body/triangle_mesh.hpp"
 #include "coupling/immersed_body.hpp"
 #include "coupling/units.hpp"
@@ -90,22 +89,6 @@ void write_fluid_vti(const std::filesystem::path& path, const lbm::Solver& fluid
 /// a non-periodic axis (none, for a body the coupling can step) are dropped.
 std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const coupling::SolidCells& cells);
 
-/// A closed, outward-oriented triangulation of the shape's surface in the body frame (same units
-/// as the shape), built once and placed at each output's pose by write_surface_vtp.
-///  - Meshes (body::MeshShape): the mesh's own triangles; max_edge is ignored.
-///  - Analytic shapes: the cube-sphere grid of body/cube_sphere.hpp with grid lines cut into
-///    edges of max_edge or less (each grid quad is split along its shorter diagonal, so triangle
-///    edges reach about sqrt(2) max_edge), each grid point u on the cube [-1, 1]^3 sent to the surface along the ray
-///    from the centroid in direction (h . u), h the half-extents of the bounding box, by bisection
-///    on the inside test to 1e-13 of the bounding radius. Stretching the ray directions by h keeps
-///    the triangles of elongated and flat bodies even, and puts the cube's edges and corners
-///    exactly on a cuboid's, so a cuboid comes out exact. Valid for bodies that are star-shaped
-///    about the centroid: every analytic shape is (all are convex). Sharp edges that the grid
-///    does not follow (a cylinder's rims) are cut by up to one triangle.
-/// Throws std::invalid_argument for max_edge not finite and > 0, or so small that the grid would
-/// need more than about ten million triangles.
-body::TriangleMesh surface_triangulation(const body::Shape& shape, double max_edge);
-
 /// Where the body is and how it moves (SI, inertial frame).
 struct BodySnapshot {
   Eigen::Vector3d position_si = Eigen::Vector3d::Zero();  ///< centroid, m
@@ -125,40 +108,5 @@ BodySnapshot body_snapshot(const body::RigidBody& body);
 /// its "Generate Surface Normals" filter gives smooth shading where wanted.
 void write_surface_vtp(const std::filesystem::path& path, const body::TriangleMesh& surface_b, const BodySnapshot& body,
                        const VtkOptions& options = {});
-
-/// A ParaView data collection (.pvd): a list of (time, file) that ParaView plays as a time
-/// series. Every add() rewrites the whole .pvd atomically, so a run that stops at any moment
-/// leaves a valid collection of the files written so far.
-class PvdCollection {
- public:
-  struct Entry {
-    double time_si = 0.0;
-    std::string file;  ///< as written in the .pvd: relative to the .pvd's directory
-  };
-
-  /// An empty collection at `pvd_path`; nothing is written until the first add().
-  explicit PvdCollection(std::filesystem::path pvd_path);
-
-  /// Continues a collection after a restart: reads the entries of an existing .pvd written by
-  /// this class, keeps those with time <= keep_until_time_si (later ones belong to the part of
-  /// the run that is being redone) and rewrites the file when it dropped any. A missing file
-  /// gives an empty collection. A file that is not such a collection raises settle::InputError.
-  static PvdCollection resume(std::filesystem::path pvd_path, double keep_until_time_si);
-
-  /// Appends an entry and rewrites the .pvd. `file` is the data file's path as the program
-  /// opens it (absolute or relative to the working directory: the path given to the writer); it
-  /// is stored relative to the .pvd's directory, so the output folder can be moved. Times must
-  /// increase strictly (std::invalid_argument otherwise).
-  void add(double time_si, const std::filesystem::path& file);
-
-  const std::vector<Entry>& entries() const { return entries_; }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  void rewrite() const;
-
-  std::filesystem::path path_;
-  std::vector<Entry> entries_;
-};
 
 }  // namespace settle::io

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "analysis/analysis_json.hpp"
 #include "analysis/observables.hpp"
 #include "body/ellipsoid.hpp"
 #include "body/mass_properties.hpp"
@@ -368,7 +369,7 @@ TEST(Analysis, JsonHoldsTheContractKeysAndNullsForUndefinedQuantities) {
   EXPECT_EQ(j["averaging"]["basis"], "terminal_window");
   // The trapezoidal mean of a constant over 300 samples: round-off of the sum, ~n eps.
   EXPECT_NEAR(j["mean_relative_flow"][2].get<double>(), 0.08, 1e-13 * 0.08);
-  // The contract keys come first, in DESIGN.md's order.
+  // The contract keys come first, in their order (docs/architecture.md, "Contracts").
   EXPECT_EQ(j.begin().key(), "terminal_velocity");
 }
 

@@ -3,12 +3,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace settle::test {
 
@@ -43,6 +45,28 @@ inline CliResult run_settle(const std::string& subcommand, const std::string& ar
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return result;
+}
+
+/// Rows of a CSV file of numbers (timeseries.csv) after its header line, which goes to `header`.
+inline std::vector<std::vector<double>> read_rows(const std::filesystem::path& csv_path, std::vector<std::string>& header) {
+  std::ifstream csv(csv_path);
+  std::string line;
+  std::getline(csv, line);
+  header.clear();
+  for (std::stringstream cells(line); std::getline(cells, line, ',');) header.push_back(line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(csv, line)) {
+    std::vector<double> row;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// Index of the column `name` in `header` (header.size() when it is absent).
+inline std::size_t column(const std::vector<std::string>& header, const std::string& name) {
+  return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
 }
 
 }  // namespace settle::test

@@ -1,5 +1,5 @@
 // Case tests of `settle attitude`: the real binary (SETTLE_BINARY) on small runs, checked
-// against closed forms, the CSV contract of DESIGN.md section 3, and its handling of bad input.
+// against closed forms, the CSV contract (docs/architecture.md, "Contracts"), and its handling of bad input.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -114,7 +114,7 @@ TEST(AttitudeCli, MethodsAgreeThroughIntermediateAxisFlips) {
   ASSERT_EQ(b.rows.size(), a.rows.size());
   for (std::size_t i = 0; i < a.rows.size(); ++i) {
     // The library test measures 5e-14 between the two methods on this case; 1e-10 is the
-    // brief's bound.
+    // bound beyond which one of them is wrong, not merely rounded.
     EXPECT_LT((matrix_of(a.rows[i]) - matrix_of(b.rows[i])).cwiseAbs().maxCoeff(), 1e-10);
     // The quaternion run reports the set the rule would pick: the same as the solver's.
     EXPECT_EQ(a.rows[i].at("euler_set"), b.rows[i].at("euler_set"));

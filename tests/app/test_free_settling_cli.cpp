@@ -1,4 +1,4 @@
-// The CI-sized free-settling case of issue 5: the real binary, a sphere released from rest, run to
+// The CI-sized free-settling case: the real binary, a sphere released from rest, run to
 // the terminal state it detects itself; physical behaviour checked against the standard drag
 // curve and the symmetry of the start. And the same time series with one and with two threads.
 #include <algorithm>
@@ -82,7 +82,7 @@ TEST(FreeSettling, SphereReachesTheStandardDragCurveAndStaysSymmetric) {
 
   // The terminal velocity against the standard drag curve of Clift, Grace and Weber (1978) as
   // `settle predict` solves it for this sphere (summary.json carries its ratio to the run). The
-  // issue's CI criterion is 10%. Expected deviation: the drag error of 8 cells per diameter
+  // CI criterion is 10%. Expected deviation: the drag error of 8 cells per diameter
   // (towed sphere, Re = 20: C_D +6.9% at 8 cells, docs/coupling.md, i.e. about -3.4% in U) and
   // the confinement of the 8 d box (a few %); measured -4.5% (and -7.1% from Schiller-Naumann).
   double clift_ratio = 0.0;

@@ -1,4 +1,4 @@
-// Case tests of issue 7: bad input to `settle run` gets a clear error, never a crash or a wrong
+// Case tests of input checking: bad input to `settle run` gets a clear error, never a crash or a wrong
 // run. Each malformed input must
 //  - exit with status 2 (an InputError; a crash or a signal gives something else),
 //  - name the key (or flag, or file) at fault in stderr,

@@ -120,7 +120,7 @@ TEST(PlotCli, DrawsEveryFigureOfAShortRealRun) {
   EXPECT_FALSE(fs::exists(run / "plots" / "reference.png"));
 
   // Tilt of body z at t = 0, from the CSV's set-1 angles through C_b^n = Rz(psi) Ry(theta) Rx(gamma)
-  // (DESIGN.md section 2): cos(tilt) = C_b^n(3,3) = cos(theta) cos(gamma), independent of psi.
+  // (docs/architecture.md, "Frames and attitude"): cos(tilt) = C_b^n(3,3) = cos(theta) cos(gamma), independent of psi.
   const double expected_deg = std::acos(std::cos(0.4) * std::cos(0.5)) * 180.0 / std::numbers::pi;
   const double printed_deg = printed_number(r.err, R"(tilt of body z from vertical: ([-0-9.e+]+) deg at t = 0 s)");
   // Printed with 6 decimals; the angles in the CSV are the case's exactly (17 digits).

@@ -1,5 +1,5 @@
 // Case tests of `settle run`: the real binary (SETTLE_BINARY) on tiny cases; the output files
-// of DESIGN.md section 3 (exact CSV header, summary keys, resolved case) and the refusal of bad
+// that are contracts (docs/architecture.md, "Contracts": exact CSV header, summary keys, resolved case) and the refusal of bad
 // input with exit status 2 and a message naming the key.
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 // Case tests of `settle shape`: the real binary (SETTLE_BINARY) on flags, meshes and case
-// files, checked against closed forms, the JSON contract of DESIGN.md section 3, and its
+// files, checked against closed forms, the JSON contract (docs/architecture.md, "Contracts"), and its
 // handling of bad input (exit status 2 and a message naming the flag or key).
 #include <sys/wait.h>
 #include <unistd.h>
@@ -149,13 +149,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"no_shape", "--density 2", "", "--shape: give a shape"},
         BadInput{"short_list", "--shape cuboid --size 1,2", "", "--size: expected 3 comma-separated numbers"},
         BadInput{"open_mesh", "--mesh " + data("open_box.stl").string(), "", "not watertight"},
+        // Case files go through the case reader of `settle run`, so the messages are the schema's.
         BadInput{"unknown_key", "CASE", "[particle]\nshape = \"sphere\"\ndiameter = 1.0\ncolour = \"red\"\n",
-                 "particle.colour: unknown key"},
+                 "unknown key [particle] colour"},
         BadInput{"wrong_type", "CASE", "[particle]\nshape = \"sphere\"\ndiameter = \"large\"\n",
-                 "particle.diameter: expected a number, got a string"},
+                 "[particle] diameter = 'large': expected a number"},
         BadInput{"no_particle", "CASE", "[fluid]\ndensity = 1000.0\n", "no [particle] table"},
         BadInput{"bad_value", "CASE", "[particle]\nshape = \"spheroid\"\ndiameter = 1.0\naspect_ratio = 0.0\n",
-                 "particle.aspect_ratio: must be finite and > 0, got 0"},
+                 "[particle] aspect_ratio = 0.0: must be in [0.001, 1000.0]"},
         BadInput{"flags_and_case", "CASE --diameter 2", "[particle]\nshape = \"sphere\"\ndiameter = 1.0\n",
                  "--diameter: cannot be combined with a case file"}),
     [](const auto& param_info) { return std::string(param_info.param.label); });

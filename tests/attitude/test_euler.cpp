@@ -39,7 +39,7 @@ TEST(EulerMatrices, Set1WrittenOutEqualsElementaryProduct) {
     const Eigen::Matrix3d product =
         (elementary_gamma(a[2]) * elementary_theta(a[1]) * elementary_psi(a[0])).transpose();
     // Both sides are sums of at most three products of unit-size sines and cosines: a few
-    // ulps (~1e-15) of difference at most; 1e-13 is the brief's bound.
+    // ulps (~1e-15) of difference at most; 1e-13 leaves a hundredfold margin.
     EXPECT_LT(max_abs_difference(set1_body_to_inertial(a), product), 1e-13);
   }
 }
@@ -115,7 +115,7 @@ void check_inverse_rate_map(Inverse inverse, Forward forward, int singular_index
     const Eigen::Vector3d rates(value(generator), value(generator), value(generator));
     const Eigen::Vector3d omega(value(generator), value(generator), value(generator));
     // Rounding of O(10) unit-size terms divided by |cos| >= 0.1: ~1e-14 for values up to 3;
-    // 1e-12 is the brief's bound.
+    // 1e-12 leaves a hundredfold margin.
     EXPECT_LT((inverse(a, forward(a, rates)) - rates).cwiseAbs().maxCoeff(), 1e-12);
     EXPECT_LT((forward(a, inverse(a, omega)) - omega).cwiseAbs().maxCoeff(), 1e-12);
     ++checked;
@@ -135,8 +135,9 @@ TEST(EulerRates, S9InvertsSet2ForwardMap) {
                          2, 6);
 }
 
-// The conversion formulas exactly as DESIGN.md states them (seed S11/S12 with two-argument
-// arctangents and clamped arcsines), used only to print how much the robust forms gain.
+// The seed's conversion formulas (S11/S12) with two-argument arctangents and clamped arcsines
+// (docs/architecture.md, "Frames and attitude"; docs/attitude.md), used only to print how much the
+// robust forms gain.
 Eigen::Vector3d seed_set1_angles(const Eigen::Matrix3d& z) {
   return {std::atan2(z(1, 0), z(0, 0)), -std::asin(std::clamp(z(2, 0), -1.0, 1.0)), std::atan2(z(2, 1), z(2, 2))};
 }
@@ -174,7 +175,7 @@ TEST(EulerConversion, RoundTripAllQuadrants) {
     worst = std::max(worst, round_trip_error(a));  // round_trip_error maps NaN to infinity
     seed_worst = std::max(seed_worst, seed_round_trip_error(a));
   }
-  std::printf("[measured] round trip, 1e5 random angle triples: %.3g (DESIGN.md formulas: %.3g)\n", worst,
+  std::printf("[measured] round trip, 1e5 random angle triples: %.3g (seed formulas: %.3g)\n", worst,
               seed_worst);
   // Three conversions, each a few atan2/sin/cos (1-ulp functions) on unit-size values:
   // ~1e-15 expected; 1e-14 leaves a factor of ten.
@@ -217,7 +218,7 @@ TEST(EulerConversion, RoundTripFromSet2AtItsSingularPoint) {
 TEST(EulerConversion, NearSingularPointKeepsFullPrecision) {
   // Within 1e-9 rad of the singular angle the seed's arcsine returns the singular angle
   // itself (sin rounds to exactly +-1), an error of ~1e-9 in the matrix (printed below for
-  // the DESIGN.md formulas); the two-argument form used here keeps the round trip at
+  // the seed formulas); the two-argument form used here keeps the round trip at
   // rounding level.
   for (double offset : {1e-6, 1e-9, 1e-12}) {
     double worst = 0.0, seed_worst = 0.0;
@@ -229,7 +230,7 @@ TEST(EulerConversion, NearSingularPointKeepsFullPrecision) {
         seed_worst = std::max(seed_worst, seed_round_trip_error(a));
       }
     }
-    std::printf("[measured] round trip %.0e rad from the singular angle: %.3g (DESIGN.md formulas: %.3g)\n", offset,
+    std::printf("[measured] round trip %.0e rad from the singular angle: %.3g (seed formulas: %.3g)\n", offset,
                 worst, seed_worst);
     // Rounding level, as for the regular round trip.
     EXPECT_LT(worst, 1e-14);
@@ -263,7 +264,7 @@ TEST(EulerConversion, SingularMatricesBuiltElsewhereAreReproduced) {
       }
     }
   }
-  std::printf("[measured] gimbal-locked matrices: DESIGN.md formulas rebuild them with error %.3g\n", seed_worst);
+  std::printf("[measured] gimbal-locked matrices: seed formulas rebuild them with error %.3g\n", seed_worst);
 }
 
 TEST(EulerConversion, RegularAnglesAreRecovered) {

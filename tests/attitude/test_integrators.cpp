@@ -82,7 +82,7 @@ TEST(DualEulerTorqueFree, IntermediateAxisTopAgreesWithQuaternion) {
   EXPECT_EQ(r.switches, r.quaternion_rule_switches);
   // Both are RK4 with identical body-rate stages; they differ only by their own O(dt^4)
   // truncation errors in two parametrisations, ~(|omega| dt)^4 * t = 1e-12 * 40 at most. The
-  // design notes measured 3e-14; 1e-10 is the brief's bound ("much worse is a bug").
+  // first measurement was 3e-14; 1e-10 is the bound beyond which it is a bug, not truncation.
   EXPECT_LT(r.max_matrix_difference, 1e-10);
   // Energy and angular momentum are exact invariants; RK4 with dt = 1e-3 drifts by
   // O(dt^4) = 1e-12 per unit time at most.
@@ -177,7 +177,7 @@ TEST(DualEulerTorqueFree, ConvergesAtFourthOrder) {
   const double order_fine = std::log2(medium / fine);
   std::printf("[measured] convergence: errors %.3g %.3g %.3g, observed orders %.3f %.3f\n", coarse, medium,
               fine, order_coarse, order_fine);
-  // Classical RK4 is fourth order; the brief's window for the observed order.
+  // Classical RK4 is fourth order; the window allows for the rounding left at the finest step.
   EXPECT_GT(order_fine, 3.8);
   EXPECT_LT(order_fine, 4.2);
   EXPECT_GT(order_coarse, 3.8);
@@ -207,7 +207,7 @@ TEST(DualEulerKinematics, ConstantRotationAboutBodyYThroughManyTurns) {
     // From the identity the angles are linear in t (RK4 exact up to rounding accumulated
     // over 20000 steps, at most 2e4 * eps ~ 4e-12; measured 4e-13); from a generic start the
     // RK4 error adds ~ t |omega|^5 dt^4 = 20 * 32 * 1e-12 at most (measured 4e-12). 1e-10
-    // is the brief's bound.
+    // is 25 times the larger measured error.
     EXPECT_LT(error, 1e-10);
   }
 }

@@ -249,7 +249,7 @@ TEST(Spheroid, ShapeFactorsClosedForm) {
   EXPECT_NEAR(o.corey_shape_factor, 0.25, kClosedForm);
 }
 
-// Marker requirements (brief): areas sum to the exact area within 1% at h = d_eq/20; every
+// Marker requirements: areas sum to the exact area within 1% at h = d_eq/20; every
 // marker's nearest neighbour within 1.5 h; every point of a dense random sample of the
 // surface within h of a marker.
 struct MarkerCase {

@@ -1,4 +1,4 @@
-// libFuzzer target for the case parser (issue 7): arbitrary bytes as a case file go through
+// libFuzzer target for the case parser: arbitrary bytes as a case file go through
 // everything `settle run` does before it allocates the grid: the schema check (io::parse_case),
 // the fluid preset, the set-up (shape factory, mesh files relative to cases/) and the preflight
 // checks (units, net weight, grid and memory, the particle in the domain, markers and steps).

@@ -1,4 +1,4 @@
-// libFuzzer target for the STL reader (issue 7): arbitrary bytes go through body::parse_stl (the
+// libFuzzer target for the STL reader: arbitrary bytes go through body::parse_stl (the
 // function body::read_stl calls on a file's bytes) and, when they parse, through the mesh shape's
 // validation (body::MeshShape: closed, consistently oriented, non-zero volume), as for a case's
 // particle.file.

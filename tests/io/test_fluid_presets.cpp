@@ -128,7 +128,7 @@ TEST(GlycerolWaterProperties, ViscosityAgreesWithSegurAndOberstarWithinChengsSca
       EXPECT_NEAR(mu * 1e3 / kSegurViscosityMpaS[i][j], 1.0, 0.04)
           << kSegurMassPercent[i] << " % glycerol at " << kSegurTemperatureC[j] << " C";
     }
-  // The examples of the issue: pure glycerol at 20 C about 1.41 Pa s, 50 % about 6.0 mPa s.
+  // Rounded literature values: pure glycerol at 20 C about 1.41 Pa s, 50 % about 6.0 mPa s.
   EXPECT_NEAR(glycerol_water_properties(1.0, 20.0).dynamic_viscosity_si, 1.41, 0.04 * 1.41);
   EXPECT_NEAR(glycerol_water_properties(0.5, 20.0).dynamic_viscosity_si, 6.0e-3, 0.04 * 6.0e-3);
 }

@@ -183,7 +183,7 @@ namespace {
 TEST(CaseSchema, EveryDefaultSatisfiesItsOwnDeclarationAndTheDesignKeysExist) {
   // The Schema constructor rejects a default outside its range; building it is the check.
   const Schema& schema = case_schema();
-  // The key names of DESIGN.md section 3 are a contract: none may go missing.
+  // The key names are a contract (docs/architecture.md, "Contracts"): none may go missing.
   for (const char* key :
        {"fluid.density", "fluid.dynamic_viscosity", "fluid.gravity", "fluid.body_force", "particle.shape",
         "particle.diameter", "particle.aspect_ratio", "particle.semi_axes", "particle.exponents", "particle.length",

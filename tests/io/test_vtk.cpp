@@ -22,7 +22,9 @@
 
 #include "body/mesh_shape.hpp"
 #include "body/shape_factory.hpp"
+#include "body/surface_triangulation.hpp"
 #include "common/error.hpp"
+#include "io/pvd.hpp"
 #include "io/vtk.hpp"
 #include "lbm/solver.hpp"
 
@@ -418,7 +420,7 @@ struct Convergence {
 Convergence volume_convergence(const body::Shape& shape, double exact_volume, const std::vector<double>& max_edges) {
   Convergence result;
   for (const double max_edge : max_edges) {
-    const body::TriangleMesh mesh = surface_triangulation(shape, max_edge);
+    const body::TriangleMesh mesh = body::surface_triangulation(shape, max_edge);
     expect_closed(mesh);
     expect_vertices_on_surface(shape, mesh);
     result.edges.push_back(longest_edge(mesh));
@@ -480,7 +482,7 @@ TEST(VtkSurface, SpheroidTriangulationsConvergeToTheExactVolume) {
 TEST(VtkSurface, CuboidTriangulationIsExact) {
   const auto cuboid = make("cuboid", [](body::ShapeSpec& s) { s.size = std::array<double, 3>{1.0, 2.0, 0.5}; });
   for (const double max_edge : {0.3, 0.11}) {
-    const body::TriangleMesh mesh = surface_triangulation(*cuboid, max_edge);
+    const body::TriangleMesh mesh = body::surface_triangulation(*cuboid, max_edge);
     expect_closed(mesh);
     expect_vertices_on_surface(*cuboid, mesh);
     // The stretched ray directions send the cube's edges to the cuboid's edges, so the faces are
@@ -515,7 +517,7 @@ TEST(VtkSurface, CylinderAndSuperellipsoidTriangulationsAreClosedAndConverge) {
 
 TEST(VtkSurface, MeshesKeepTheirOwnTriangles) {
   const auto cube = body::load_mesh_shape(fs::path(SETTLE_SOURCE_DIR) / "tests/data/cube_ascii.stl");
-  const body::TriangleMesh mesh = surface_triangulation(*cube, 1e-3);
+  const body::TriangleMesh mesh = body::surface_triangulation(*cube, 1e-3);
   EXPECT_EQ(mesh.triangles, cube->body_mesh().triangles);
   EXPECT_EQ(mesh.vertices.size(), cube->body_mesh().vertices.size());
   expect_closed(mesh);
@@ -524,9 +526,9 @@ TEST(VtkSurface, MeshesKeepTheirOwnTriangles) {
 
 TEST(VtkSurface, RefusesUnusableEdgeLengths) {
   const auto sphere = make("sphere", [](body::ShapeSpec& s) { s.diameter = 1.0; });
-  EXPECT_THROW(surface_triangulation(*sphere, 0.0), std::invalid_argument);
-  EXPECT_THROW(surface_triangulation(*sphere, std::nan("")), std::invalid_argument);
-  EXPECT_THROW(surface_triangulation(*sphere, 1e-5), std::invalid_argument);  // ~1e10 triangles
+  EXPECT_THROW(body::surface_triangulation(*sphere, 0.0), std::invalid_argument);
+  EXPECT_THROW(body::surface_triangulation(*sphere, std::nan("")), std::invalid_argument);
+  EXPECT_THROW(body::surface_triangulation(*sphere, 1e-5), std::invalid_argument);  // ~1e10 triangles
 }
 
 TEST(VtkSurface, PosedSurfaceFileHoldsTheMovedPointsTrianglesAndRigidVelocity) {
@@ -535,7 +537,7 @@ TEST(VtkSurface, PosedSurfaceFileHoldsTheMovedPointsTrianglesAndRigidVelocity) {
     s.diameter = 2.0e-3;
     s.aspect_ratio = 2.0;
   });
-  const body::TriangleMesh surface_b = surface_triangulation(*spheroid, 0.5e-3);
+  const body::TriangleMesh surface_b = body::surface_triangulation(*spheroid, 0.5e-3);
   BodySnapshot body;
   body.position_si = {0.02, 0.03, 1.5};
   body.body_to_inertial = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
