@@ -83,8 +83,9 @@ TEST_P(GoldenCase, FiveStepsReproduceTheStoredNumbers) {
   std::string arguments = (source_dir() / "cases" / (name + ".toml")).string();
   const fs::path dir = settle::test::scratch("golden_" + name);
   arguments += " -o " + dir.string() + " --threads 2 --quiet";
-  for (const auto& setting : golden().at("common_set")) arguments += " --set " + setting.get<std::string>();
-  for (const auto& setting : expected.at("set")) arguments += " --set " + setting.get<std::string>();
+  // Quoted for the shell that runs the command: a TOML string keeps its double quotes.
+  for (const auto& setting : golden().at("common_set")) arguments += " --set '" + setting.get<std::string>() + "'";
+  for (const auto& setting : expected.at("set")) arguments += " --set '" + setting.get<std::string>() + "'";
   arguments += fmt::format(" --set run.end_time={:.17g}", expected.at("end_time").get<double>());
   const auto run = settle::test::run_settle("run", arguments);
   ASSERT_EQ(run.status, 0) << run.err;
