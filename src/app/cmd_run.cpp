@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/observables.hpp"
+#include "analysis/spectrum.hpp"
 #include "analysis/terminal_state.hpp"
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
@@ -165,6 +166,29 @@ nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResu
 
 // The run loop's averages over the second half (coupling::summarise): the results of fixed and
 // towed bodies, and of a free body whose analysis could not be made.
+// The dominant frequency of the lift of a fixed or towed body over the averaging window (the
+// second half), as a Strouhal number f d_eq / U: the shedding frequency of a wake.
+void add_lift_spectrum(nlohmann::json& j, const coupling::Simulation& sim, const coupling::RunResult& result,
+                       const coupling::RunSummary& summary) {
+  const double speed = summary.mean_relative_flow_si.norm();
+  if (!summary.has_coefficients || speed <= 0.0) return;
+  const Eigen::Vector3d flow = summary.mean_relative_flow_si / speed;
+  std::vector<double> t_si;
+  std::vector<std::vector<double>> lift(3);
+  for (const coupling::Sample& s : result.samples) {
+    if (s.t_si < 0.5 * result.simulated_time_si || s.t_si <= 0.0) continue;
+    const Eigen::Vector3d force = s.hydrodynamic.force_si;
+    const Eigen::Vector3d normal = force - force.dot(flow) * flow;
+    t_si.push_back(s.t_si);
+    for (int a = 0; a < 3; ++a) lift[static_cast<std::size_t>(a)].push_back(normal[a]);
+  }
+  const analysis::SpectralPeak peak = analysis::spectral_peak(t_si, lift);
+  j["lift_frequency"] = peak.found ? nlohmann::json(peak.frequency_hz) : nlohmann::json(nullptr);
+  j["lift_strouhal"] =
+      peak.found ? nlohmann::json(peak.frequency_hz * sim.derived().equivalent_diameter_si / speed) : nlohmann::json(nullptr);
+  j["lift_spectral_concentration"] = peak.found ? nlohmann::json(peak.concentration) : nlohmann::json(nullptr);
+}
+
 void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary) {
   j["terminal_velocity"] = summary.terminal_velocity_si;
   j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
@@ -178,6 +202,7 @@ void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary) {
   j["mean_relative_flow"] = vector_json(summary.mean_relative_flow_si);
   if (summary.has_coefficients) {
     j["lift_coefficient"] = summary.lift_coefficient;
+    j["lift_fluctuation_coefficient"] = summary.lift_fluctuation_coefficient;
     j["torque_coefficient"] = summary.torque_coefficient;
   }
 }
@@ -303,8 +328,11 @@ nlohmann::json write_summary(const io::CaseValues& values, const coupling::Simul
   nlohmann::json summary_document = run_json(sim, result, warnings);
   // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
   if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
-  if (!add_analysis(summary_document, sim, dir / "timeseries.csv", console))
-    add_run_averages(summary_document, coupling::summarise(sim, result));
+  if (!add_analysis(summary_document, sim, dir / "timeseries.csv", console)) {
+    const coupling::RunSummary averages = coupling::summarise(sim, result);
+    add_run_averages(summary_document, averages);
+    add_lift_spectrum(summary_document, sim, result, averages);
+  }
   write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
   return summary_document;
 }
@@ -344,9 +372,11 @@ void run_case(const RunOptions& options) {
   else if (restart) omp_set_num_threads(restart->threads());  // as the run had: bit for bit
   const auto& d = sim.derived();
   console.info(fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
-                           "grid {}x{}x{}, {} markers, {} threads",
+                           "grid {}x{}x{}, {} {}, {} threads",
                            name, d.dx_si, d.dt_si, d.tau, d.mach, d.reynolds, d.galileo, d.cells[0], d.cells[1],
-                           d.cells[2], d.marker_count, omp_get_max_threads()));
+                           d.cells[2], d.marker_count,
+                           sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)",
+                           omp_get_max_threads()));
 
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
   prepare_output_directory(dir);

@@ -209,6 +209,14 @@ RunSummary summarise(const Simulation& sim, const RunResult& result) {
   summary.drag_coefficient = drag / dynamic_pressure_area;
   summary.lift_coefficient = (summary.mean_force_si - drag * flow).norm() / dynamic_pressure_area;
   summary.torque_coefficient = summary.mean_torque_si.norm() / (dynamic_pressure_area * 0.5 * d);
+  const Eigen::Vector3d mean_lift = summary.mean_force_si - drag * flow;
+  double square_sum = 0.0;
+  for (const Sample& s : result.samples) {
+    if (s.t_si < t_start || s.t_si <= 0.0) continue;
+    const Eigen::Vector3d force = s.hydrodynamic.force_si;
+    square_sum += (force - force.dot(flow) * flow - mean_lift).squaredNorm();
+  }
+  summary.lift_fluctuation_coefficient = std::sqrt(square_sum / static_cast<double>(count)) / dynamic_pressure_area;
   return summary;
 }
 

@@ -121,6 +121,8 @@ struct RunSummary {
   bool has_coefficients = false;
   double lift_coefficient = 0.0;    ///< |force normal to the relative flow| normalised
   double torque_coefficient = 0.0;  ///< |torque| normalised
+  /// rms of the lift's fluctuation about its mean (the force normal to the relative flow), normalised
+  double lift_fluctuation_coefficient = 0.0;
   Eigen::Vector3d mean_force_si = Eigen::Vector3d::Zero();
   Eigen::Vector3d mean_torque_si = Eigen::Vector3d::Zero();
   Eigen::Vector3d mean_relative_flow_si = Eigen::Vector3d::Zero();
