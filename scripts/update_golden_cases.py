@@ -27,9 +27,8 @@ COMMON_SET = ["run.output_interval=0", "run.vtk_interval=0", "run.checkpoint_int
               "run.stop_at_terminal=false"]
 # The coarse grid that keeps each case near a tenth of a second.
 DEFAULT_SET = ["numerics.cells_per_diameter=6"]
-# The fixed sphere's stream reaches the sphere only after tens of steps, so five steps would leave a
-# force at round-off: towed obliquely instead, the sphere moves its walls, uncovers and refills
-# cells and feels the fluid from the first step.
+# The fixed sphere towed obliquely through its stream: in five steps it then moves its walls, uncovers
+# and refills cells, which a sphere held fixed would not exercise.
 CASE_SET = {"fixed_sphere_stream": ["numerics.cells_per_diameter=6", 'particle.motion="towed"',
                                     "particle.towing_velocity=[0.002,0.001,-0.03]"]}
 

@@ -27,6 +27,7 @@
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
 #include "app/run_checkpoints.hpp"
+#include "app/run_plan.hpp"
 #include "app/console.hpp"
 #include "app/summary_fields.hpp"
 #include "body/surface_triangulation.hpp"
@@ -56,6 +57,7 @@ struct RunOptions {
   double max_memory_gib = 0.0;
   bool max_memory_given = false;  ///< --max-memory replaces MemAvailable as the budget
   bool quiet = false, verbose = false;
+  bool dry_run = false;     ///< --dry-run: print the plan and stop
   std::string restart_dir;  ///< --restart DIR (app/run_checkpoints.hpp)
 };
 
@@ -65,6 +67,8 @@ void check_flags(const RunOptions& options) {
   if (options.threads < 0)
     throw InputError(fmt::format("--threads: must be >= 1 (or 0 for OpenMP's default), got {}", options.threads));
   if (options.quiet && options.verbose) throw InputError("--quiet and --verbose: choose one");
+  if (options.dry_run && !options.restart_dir.empty())
+    throw InputError("--dry-run: plans a case file, not a continued run; leave out --restart");
   if (options.max_memory_given && !(std::isfinite(options.max_memory_gib) && options.max_memory_gib > 0.0))
     throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
 }
@@ -365,6 +369,11 @@ void run_case(const RunOptions& options) {
   for (const auto& w : report.warnings) console.warning(w);
   warnings.insert(warnings.end(), report.warnings.begin(), report.warnings.end());
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
+  if (options.dry_run) {
+    if (options.threads > 0) omp_set_num_threads(options.threads);
+    std::fputs(run_plan_text(setup, report).c_str(), stdout);
+    return;
+  }
 
   coupling::Simulation sim(std::move(setup));
   if (restart) restart->restore(sim);
@@ -448,6 +457,9 @@ void add_run_command(CLI::App& app) {
       ->allow_extra_args(false);
   run->add_option("--threads", options->threads, "OpenMP threads (default: all)");
   run->add_flag("-q,--quiet", options->quiet, "print warnings and errors only");
+  run->add_flag("--dry-run", options->dry_run,
+                "check the case and print its plan (grid, time step, steps, memory, an estimate of the wall time) "
+                "without running it or writing anything");
   run->add_flag("-v,--verbose", options->verbose, "also print every derived value of the unit conversion; progress more often in a log");
   CLI::Option* max_memory = run->add_option(
       "--max-memory", options->max_memory_gib,

@@ -91,7 +91,6 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       number("inflow velocity y (lattice units)", c.inflow_velocity.y()),
       number("inflow velocity z (lattice units)", c.inflow_velocity.z()),
       face_entry("outflow face", s.outflow),
-      number("inflow ramp time (s)", s.inflow ? s.inflow_ramp_time_si.value_or(default_inflow_ramp_time_si(s)) : 0.0),
       number("surface markers", static_cast<double>(sim.derived().marker_count)),
       number("marker retraction (cells)", s.marker_retraction_cells),
       number("delta kernel", static_cast<double>(static_cast<int>(s.kernel))),

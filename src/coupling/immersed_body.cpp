@@ -62,17 +62,6 @@ ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& ce
   return placed;
 }
 
-CellBox box_around(const Eigen::Vector3d& centre, double radius, double margin) {
-  CellBox box;
-  for (int a = 0; a < 3; ++a) {
-    const int lo = static_cast<int>(std::floor(centre[a] - radius - margin));
-    const int hi = static_cast<int>(std::ceil(centre[a] + radius + margin));
-    box.origin[static_cast<std::size_t>(a)] = lo;
-    box.extent[static_cast<std::size_t>(a)] = hi - lo + 1;
-  }
-  return box;
-}
-
 bool box_fits(const CellBox& box, const lbm::Solver& solver) {
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);

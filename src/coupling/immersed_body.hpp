@@ -74,8 +74,8 @@ constexpr double interior_lattice_depth_cells(double retraction_cells) { return 
 ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,
                            const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity_n);
 
-/// The axis-aligned box of cells that holds every cell within `radius` + `margin` of `centre`
-/// (lattice units): first cell and extent per axis.
+/// An axis-aligned box of cells (lattice units): first cell and extent per axis. Each coupling
+/// says which box a body needs (BodyCoupling::box_at).
 struct CellBox {
   std::array<int, 3> origin{};
   std::array<int, 3> extent{};
@@ -84,7 +84,6 @@ struct CellBox {
            static_cast<std::size_t>(extent[2]);
   }
 };
-CellBox box_around(const Eigen::Vector3d& centre, double radius, double margin);
 
 /// True when the box can be exchanged with the solver: on a periodic axis its extent is at most
 /// the grid's (no cell twice), on any other axis it lies inside the grid.

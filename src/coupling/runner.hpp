@@ -42,9 +42,6 @@ struct Sample {
 /// Takes a sample of the simulation's current state.
 Sample take_sample(const Simulation& simulation, double t_si);
 
-/// Where run() starts, and the loop's own state that a checkpoint stores beside the simulation's.
-/// A fresh run starts from the default; a continued run from what checkpoint_due was given, with
-/// the simulation restored to the same step.
 /// The largest values the health check (coupling/health.hpp) met at the output times of a run:
 /// how close the run came to its limits (summary.json "fluid_health").
 struct RunExtremes {
@@ -52,6 +49,9 @@ struct RunExtremes {
   double lattice_speed = 0.0;      ///< largest |u| dt / dx
 };
 
+/// Where run() starts, and the loop's own state that a checkpoint stores beside the simulation's.
+/// A fresh run starts from the default; a continued run from what checkpoint_due was given, with
+/// the simulation restored to the same step.
 struct RunStart {
   std::int64_t step = 0;                ///< coupled steps already taken (== Simulation::steps())
   std::int64_t next_output_index = 0;   ///< OutputSchedule::next_index() of the samples
@@ -107,8 +107,10 @@ RunResult run(Simulation& simulation, const RunCallbacks& callbacks, RunStart st
               double progress_interval_wall_s = 5.0);
 
 /// Results of a run. Time averages are over the samples in the second half of the simulated
-/// time (the first half is the start-up transient; a later issue brings terminal-state
-/// detection), or the last sample when there is none there.
+/// time (the first half is the start-up transient), or the last sample when there is none there.
+/// These are the results of fixed and towed bodies; for a free body `settle run` reports the
+/// terminal state the analysis detects (analysis/terminal_state.hpp) and falls back on these
+/// averages only when that analysis cannot be made.
 struct RunSummary {
   double terminal_velocity_si = 0.0;           ///< |mean velocity| (free), towing speed (towed), 0 (fixed)
   double terminal_vertical_velocity_si = 0.0;  ///< mean velocity along gravity, > 0 when sinking

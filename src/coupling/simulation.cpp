@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 #include <fmt/core.h>
@@ -29,76 +28,22 @@ class ScopedTimer {
   Clock::time_point start_;
 };
 
-// Largest cell count we allocate without asking: 2^31 cells is ~300 GB of D3Q19 doubles.
-constexpr double kMaxCells = 2.0e9;
-
-// Default contact distance: the kernel's half-width. The stencil of a point at lattice coordinate
-// x starts at cell floor(x - h) + 1 (ibm::axis_stencil), which stays >= 0 for a point at least
-// h - 1/2 cells above the wall plane at -1/2; the extra half cell takes the overlap of impacts.
-double contact_distance_cells(const SimulationSetup& s) {
-  return s.contact_distance_cells.value_or(ibm::support_half_width(s.kernel));
-}
-
-void check_contact_setup(const SimulationSetup& s) {
-  if (!s.wall_contact) return;
-  if (!(s.contact_restitution > 0.0 && s.contact_restitution <= 1.0))
-    throw InputError(fmt::format("contact.restitution: must be in (0, 1], got {}", s.contact_restitution));
-  if (!(s.contact_collision_steps >= 1.0 && s.contact_collision_steps <= 1.0e4))
-    throw InputError(fmt::format("contact.collision_steps: must be in [1, 1e4] fluid time steps, got {}",
-                                 s.contact_collision_steps));
-  if (!(s.contact_wet_stokes_scale >= 0.0 && s.contact_wet_stokes_scale <= 1.0e3))
-    throw InputError(fmt::format("contact.wet_stokes_scale: must be in [0, 1000] (0: dry contacts), got {}",
-                                 s.contact_wet_stokes_scale));
-  const double minimum = ibm::support_half_width(s.kernel) - 0.5;
-  const double distance = contact_distance_cells(s);
-  if (!(distance >= minimum && distance <= 1.0e3))
-    throw InputError(fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
-                                 "closer to a wall would put its forcing stencil outside the grid), got {}",
-                                 minimum, ibm::to_string(s.kernel), distance));
-}
-
-void check_setup(const SimulationSetup& s) {
-  if (!s.shape) throw std::invalid_argument("Simulation: no shape");
-  if (!(s.particle_density_si > 0.0)) throw InputError("particle.density: must be > 0");
-  if (!(s.end_time_si > 0.0)) throw InputError("run.end_time: must be > 0");
-  if (s.forcing_iterations < 1) throw InputError("numerics.forcing_iterations: must be >= 1");
-  if (s.motion == body::MotionKind::free && s.body_force_si.norm() > 0.0)
-    throw InputError("fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
-                     "carried by the driven flow); set it to [0, 0, 0]");
-  check_contact_setup(s);
-}
-
-std::array<int, 3> grid_cells(const SimulationSetup& s, double dx_si) {
+// The plan's grid as the solver's integer extents; io::preflight refuses these cases first with the
+// memory they would need, this guards set-ups built in code.
+std::array<int, 3> grid_cells(const CasePlan& plan, const SimulationSetup& s) {
   std::array<int, 3> n{};
-  double total = 1.0;
-  for (int a = 0; a < 3; ++a) {
-    const double cells = std::round(s.domain_size_si[a] / dx_si);
-    if (cells < 4.0)
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (plan.cells[a] < 4.0)
       throw InputError(fmt::format("domain.size: {:.4g} m along axis {} is {} cells; at least 4 needed (raise domain.size "
                                    "or numerics.cells_per_diameter)",
-                                   s.domain_size_si[a], "xyz"[a], cells));
-    total *= cells;
-    n[static_cast<std::size_t>(a)] = static_cast<int>(cells);
+                                   s.domain_size_si[static_cast<int>(a)], "xyz"[a], plan.cells[a]));
+    n[a] = static_cast<int>(plan.cells[a]);
   }
-  if (total > kMaxCells)
+  if (plan.cell_count() > kMaxGridCells)
     throw InputError(fmt::format("numerics.cells_per_diameter: the domain needs {:.3g} cells (more than {:.0e}); lower "
                                  "numerics.cells_per_diameter or domain.size",
-                                 total, kMaxCells));
+                                 plan.cell_count(), kMaxGridCells));
   return n;
-}
-
-UnitConverter converter_for(const SimulationSetup& s) {
-  check_setup(s);
-  UnitInputs in;
-  in.equivalent_diameter_si = s.shape->equivalent_diameter();
-  in.cells_per_diameter = s.cells_per_diameter;
-  in.fluid_density_si = s.fluid_density_si;
-  in.dynamic_viscosity_si = s.dynamic_viscosity_si;
-  in.expected_speed_si = expected_speed_si(s);
-  in.max_lattice_velocity = s.max_lattice_velocity;
-  in.max_tau = s.max_tau;
-  in.tau = s.tau;
-  return make_unit_converter(in);
 }
 
 // Virtual mass and inertia of the corrector, in units of the displaced fluid's mass rho_f V and
@@ -117,41 +62,6 @@ body::VirtualInertia virtual_inertia_for(const body::RigidBody& body, double flu
 
 }  // namespace
 
-double expected_speed_si(const SimulationSetup& s) {
-  const double d = s.shape->equivalent_diameter();
-  const double rotation = s.initial.angular_velocity_b_si.norm() * s.shape->bounding_radius();
-  // A stream through an inlet adds its speed to whatever the body's motion drives.
-  const double stream = s.inflow ? s.inflow_velocity_si.norm() : 0.0;
-  switch (s.motion) {
-    case body::MotionKind::towed:
-      return s.initial.velocity_si.norm() + rotation + stream;
-    case body::MotionKind::fixed:
-      return estimated_driven_speed_si(d, s.body_force_si.norm(), s.domain_size_si.prod(), s.fluid_density_si,
-                                       s.dynamic_viscosity_si) +
-             stream;
-    case body::MotionKind::free:
-      break;
-  }
-  // Under gravity and drag the velocity relaxes from its initial value towards the terminal one;
-  // with a drag linear in the velocity it is a convex combination of the two, so its magnitude
-  // stays below the larger (a body released at its terminal speed does not halve dt).
-  const double terminal = estimated_terminal_speed_si(d, s.particle_density_si, s.fluid_density_si,
-                                                      s.dynamic_viscosity_si, s.gravity_si.norm());
-  return std::max(terminal, s.initial.velocity_si.norm()) + rotation + stream;
-}
-
-double default_inflow_ramp_time_si(const SimulationSetup& s) {
-  const double speed = s.inflow_velocity_si.norm();
-  return speed > 0.0 ? 2.0 * s.shape->equivalent_diameter() / speed : 0.0;
-}
-
-Eigen::Vector3d inflow_velocity_at_si(const SimulationSetup& s, double t_si) {
-  const double ramp = s.inflow_ramp_time_si.value_or(default_inflow_ramp_time_si(s));
-  if (!(t_si < ramp)) return s.inflow_velocity_si;
-  const double phase = std::sin(0.5 * std::numbers::pi * t_si / ramp);
-  return s.inflow_velocity_si * phase * phase;
-}
-
 void SubstepTimers::add(const char* name, double seconds) {
   for (auto& [entry_name, total] : entries_)
     if (entry_name == name) {
@@ -167,22 +77,19 @@ double SubstepTimers::total() const {
   return sum;
 }
 
-Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_(converter_for(setup_)) {
+Simulation::Simulation(SimulationSetup setup)
+    : setup_(std::move(setup)), plan_(plan_case(setup_)), units_(plan_.units) {
   const body::Shape& shape = *setup_.shape;
-  derived_.equivalent_diameter_si = shape.equivalent_diameter();
+  derived_.equivalent_diameter_si = plan_.equivalent_diameter_si;
   derived_.dx_si = units_.dx_si();
   derived_.dt_si = units_.dt_si();
   derived_.tau = units_.tau();
-  derived_.expected_speed_si = expected_speed_si(setup_);
-  derived_.mach = mach_number(units_.velocity(derived_.expected_speed_si));
-  derived_.reynolds = derived_.expected_speed_si * derived_.equivalent_diameter_si / units_.kinematic_viscosity_si();
-  derived_.galileo = galileo_number(derived_.equivalent_diameter_si, setup_.particle_density_si, setup_.fluid_density_si,
-                                    units_.kinematic_viscosity_si(), setup_.gravity_si.norm());
-  derived_.cells = grid_cells(setup_, units_.dx_si());
-  // The first step that starts at or after the release time (a relative tolerance keeps a time
-  // given as a whole number of steps from rounding up by one).
-  if (setup_.motion == body::MotionKind::free && setup_.release_time_si > 0.0)
-    derived_.release_step = static_cast<std::int64_t>(std::ceil(setup_.release_time_si / units_.dt_si() * (1.0 - 1e-12)));
+  derived_.expected_speed_si = plan_.expected_speed_si;
+  derived_.mach = plan_.mach;
+  derived_.reynolds = plan_.reynolds;
+  derived_.galileo = plan_.galileo;
+  derived_.cells = grid_cells(plan_, setup_);
+  derived_.release_step = plan_.release_step;
   frame_.dx_si = units_.dx_si();
 
   const lbm::SolverConfig config = fluid_config();
@@ -219,8 +126,12 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), units_
   make_wall_contact();
 
   fluid_ = lbm::make_solver(config);
-  fluid_->initialise([](int, int, int) { return lbm::CellState{}; });
-  ramp_inflow();
+  // With an inlet the fluid starts as its stream and the body appears in it at once: the
+  // pressure pulse of that start is local and spreads out. A stream ramped up from rest instead
+  // rings the whole column between the reflecting inlet and outlet as an acoustic mode that the
+  // viscosity of a low-tau case does not damp (docs/lbm.md, "Inlets and outlets").
+  const lbm::CellState start{1.0, config.inflow_velocity};
+  fluid_->initialise([&start](int, int, int) { return start; });
   coupling_->start(*fluid_, lattice_pose({setup_.initial.position_si, setup_.initial.attitude}));
   derived_.marker_count = coupling_->surface_element_count();
 }
@@ -248,13 +159,6 @@ Eigen::Vector3d Simulation::lattice_velocity(const Eigen::Vector3d& velocity_si)
   Eigen::Vector3d u;
   for (int a = 0; a < 3; ++a) u[a] = units_.velocity(velocity_si[a]);
   return u;
-}
-
-void Simulation::ramp_inflow() {
-  if (!setup_.inflow) return;
-  // The velocity of the coming step's streaming, at its end time.
-  const double t_si = static_cast<double>(steps_ + 1) * units_.dt_si();
-  fluid_->set_inflow_velocity(lattice_velocity(inflow_velocity_at_si(setup_, t_si)));
 }
 
 LatticePose Simulation::lattice_pose(const body::Pose& pose) const {
@@ -342,7 +246,6 @@ void Simulation::step() {
   }
   {
     ScopedTimer timer(timers_, "fluid");
-    ramp_inflow();
     fluid_->step();
   }
   {

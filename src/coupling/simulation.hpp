@@ -1,6 +1,7 @@
 #pragma once
 // The coupled simulation of one rigid particle in a lattice Boltzmann fluid, and its ONE time
-// step (DESIGN.md section 1). The step's sub-steps, in order, each timed under its name:
+// step (docs/architecture.md, "The coupled time step"). The step's sub-steps, in order, each
+// timed under its name:
 //
 //  1. body_predictor     pose at t + dt from the current velocities (RigidBody::predict_pose)
 //  2. markers            the body's surface at that pose, moving with the body's current
@@ -48,73 +49,15 @@
 #include "body/rigid_body.hpp"
 #include "body/shape.hpp"
 #include "coupling/body_coupling.hpp"
+#include "coupling/case_plan.hpp"
 #include "coupling/immersed_body.hpp"
+#include "coupling/setup.hpp"
 #include "coupling/units.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/config.hpp"
 #include "lbm/solver.hpp"
 
 namespace settle::coupling {
-
-/// Everything a run needs, in SI (built from a case by io/case.hpp).
-struct SimulationSetup {
-  std::string name = "case";
-  std::shared_ptr<const body::Shape> shape;
-  double particle_density_si = 1050.0;
-  body::MotionKind motion = body::MotionKind::free;
-  /// Initial state. For a towed body, velocity_si and angular_velocity_b_si are the prescribed
-  /// constant motion.
-  body::RigidBodyState initial;
-  /// Free bodies: until this time (s) the body keeps its initial velocity and angular velocity
-  /// while the flow around it develops, then it moves freely (particle.release_time).
-  double release_time_si = 0.0;
-
-  double fluid_density_si = 998.2;
-  double dynamic_viscosity_si = 1.0e-3;
-  Eigen::Vector3d gravity_si{0.0, 0.0, -9.81};
-  Eigen::Vector3d body_force_si = Eigen::Vector3d::Zero();  ///< N/m^3 on the fluid
-
-  Eigen::Vector3d domain_size_si = Eigen::Vector3d::Constant(0.01);
-  std::array<lbm::Boundary, 3> boundaries{lbm::Boundary::no_slip, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
-  /// A face where the fluid enters with inflow_velocity_si (a uniform stream), and one where it
-  /// leaves; each replaces the pair's kind on that face (lbm::OpenFace).
-  std::optional<lbm::Face> inflow;
-  Eigen::Vector3d inflow_velocity_si = Eigen::Vector3d::Zero();
-  std::optional<lbm::Face> outflow;
-  /// The fluid starts at rest and the inflow rises to inflow_velocity_si over this time (unset:
-  /// default_inflow_ramp_time_si).
-  std::optional<double> inflow_ramp_time_si;
-  bool follow_particle = false;
-
-  double cells_per_diameter = 16.0;
-  lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
-  lbm::CollisionKind collision = lbm::CollisionKind::trt;
-  lbm::Precision precision = lbm::Precision::float64;
-  CouplingKind coupling = CouplingKind::immersed_boundary;
-  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
-  ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
-  int forcing_iterations = 3;
-  double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md
-  bool interior_markers = false;          ///< volume markers inside the body (make_body_markers)
-  double max_lattice_velocity = 0.05;
-  double max_tau = 2.0;
-  std::optional<double> tau;
-
-  // Particle-wall contact (body/contact.hpp) with the walls of the non-periodic axes. Off when the
-  // window follows the particle (it then never nears a face: the window keeps it at its start).
-  bool wall_contact = true;
-  double contact_restitution = 0.97;    ///< dry normal restitution e in (0, 1] (glass, steel: ~0.97)
-  /// beta of the wet restitution e exp(-beta / St) (body/contact.hpp; Legendre et al. 2006); 0: dry contacts
-  double contact_wet_stokes_scale = 35.0;
-  double contact_collision_steps = 10.0;  ///< collision time T_c in fluid time steps (Kempe and Froehlich 2012)
-  /// Gap (cells) at which the contact spring starts. Unset: the delta kernel's half-width (1.5 cells
-  /// for roma3, 2 for peskin4), so the surface markers' stencils stay inside the grid at rest and
-  /// under impacts up to several times the expected speed (docs/rigid-body.md).
-  std::optional<double> contact_distance_cells;
-
-  double end_time_si = 1.0;
-  double output_interval_si = 0.005;
-};
 
 /// The numbers the converter chose and the dimensionless groups of the case (logged at start and
 /// written to case.resolved.toml and summary.json).
@@ -131,18 +74,7 @@ struct DerivedQuantities {
   std::int64_t release_step = 0;
 };
 
-/// The speed the time step must resolve (see the file comment of units.hpp): towing speed plus
-/// rotation, the estimated driven speed for a fixed body with a body force, or the
-/// larger of the Schiller-Naumann terminal speed of the volume-equivalent sphere and the initial
-/// speed, plus rotation, for a free body.
-double expected_speed_si(const SimulationSetup& setup);
 
-/// The inflow's ramp when the case gives none: two passages of the stream over the body's
-/// equivalent diameter. Its pressure pulse, of order rho U^2 d / (U T) = rho U^2 / 2, stays far
-/// below the density check, where an impulsive start past a fixed body does not.
-double default_inflow_ramp_time_si(const SimulationSetup& setup);
-/// The inflow velocity at time t_si: U sin^2(pi t / (2 T)) during the ramp T, U after it.
-Eigen::Vector3d inflow_velocity_at_si(const SimulationSetup& setup, double t_si);
 
 /// Wall-clock seconds spent in each named sub-step, in step order.
 class SubstepTimers {
@@ -186,6 +118,7 @@ class Simulation {
 
   const SimulationSetup& setup() const { return setup_; }
   const DerivedQuantities& derived() const { return derived_; }
+  const CasePlan& plan() const { return plan_; }
   const UnitConverter& units() const { return units_; }
   const body::RigidBody& body() const { return *body_; }
   /// The particle-wall contact model; empty without contact walls (setup().wall_contact off, all
@@ -212,14 +145,13 @@ class Simulation {
   CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const;
   LatticePose lattice_pose(const body::Pose& pose) const;
   Eigen::Vector3d lattice_velocity(const Eigen::Vector3d& velocity_si) const;
-  /// Sets the inflow's velocity for the coming step (the ramp, then the case's value).
-  void ramp_inflow();
   lbm::SolverConfig fluid_config() const;
   void make_wall_contact();
   void follow_body();
 
   SimulationSetup setup_;
-  UnitConverter units_;
+  CasePlan plan_;
+  UnitConverter units_;  ///< plan_.units
   DerivedQuantities derived_;
   LatticeFrame frame_;
   std::unique_ptr<lbm::Solver> fluid_;

@@ -20,8 +20,12 @@ TimeControl::TimeControl(double dt_si, double end_time_si, std::int64_t start_st
     : dt_si_(dt_si), end_time_si_(end_time_si), step_(start_step) {
   if (!(dt_si > 0.0) || !(end_time_si >= 0.0)) throw std::invalid_argument("TimeControl: dt > 0 and end >= 0 required");
   if (start_step < 0) throw std::invalid_argument("TimeControl: the start step must be >= 0");
+  total_steps_ = static_cast<std::int64_t>(steps_to_reach(end_time_si, dt_si));
+}
+
+double steps_to_reach(double end_time_si, double dt_si) {
   // 1e-9 of a step of slack: an end time that is a whole number of steps is not rounded up.
-  total_steps_ = static_cast<std::int64_t>(std::ceil(end_time_si / dt_si - 1e-9));
+  return std::ceil(end_time_si / dt_si - 1e-9);
 }
 
 }  // namespace settle::coupling

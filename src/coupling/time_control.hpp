@@ -1,9 +1,14 @@
 #pragma once
-// Time control, kept out of the physics (STYLE.md: Lethe's SimulationControl): the simulated
-// time, the step, the end condition and which outputs are due. The physics only ever sees dt.
+// Time control, kept out of the physics (docs/architecture.md, "The run loop and time control";
+// the shape of Lethe's SimulationControl): the simulated time, the step, the end condition and
+// which outputs are due. The physics only ever sees dt.
 #include <cstdint>
 
 namespace settle::coupling {
+
+/// Steps of dt_si to reach end_time_si, the last one passing it by less than dt (a double, so
+/// that a case asking for more steps than an integer holds can be refused with its count).
+double steps_to_reach(double end_time_si, double dt_si);
 
 /// An output that is due every `interval_si` seconds of simulated time (0 = every step;
 /// negative = never).

@@ -2,33 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <numbers>
 
 #include <fmt/core.h>
 
+#include "common/bisection.hpp"
 #include "common/error.hpp"
+#include "common/require.hpp"
+#include "lbm/config.hpp"
 
 namespace settle::coupling {
 namespace {
 
 constexpr double kSoundSpeed = 0.57735026918962576;  // 1/sqrt(3), lattice units
 
-void require_positive(double value, const char* key) {
-  if (!(std::isfinite(value) && value > 0.0))
-    throw InputError(fmt::format("{}: must be finite and > 0, got {}", key, value));
-}
-
 // Smallest U in (0, hi] with residual(U) >= 0 for a residual increasing in U (bisection to
-// relative 1e-10; the drag force grows monotonically with speed).
-double solve_increasing(const std::function<double(double)>& residual) {
-  double lo = 0.0, hi = 1.0;
-  while (residual(hi) < 0.0 && hi < 1e6) hi *= 2.0;
-  for (int i = 0; i < 200 && hi - lo > 1e-10 * hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (residual(mid) < 0.0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+// relative 1e-10; the drag force grows monotonically with speed). The bracket's upper end doubles
+// from 1 m/s until the residual turns non-negative, up to 1e6 m/s.
+template <class Residual>
+double solve_increasing(const Residual& residual) {
+  double high = 1.0;
+  while (residual(high) < 0.0 && high < 1e6) high *= 2.0;
+  const auto side = [&](double u) { return residual(u) < 0.0 ? BisectionSide::below : BisectionSide::above; };
+  const auto converged = [](double low, double up) { return !(up - low > 1e-10 * up); };
+  return bisect({0.0, high}, side, converged, 200).middle();
 }
 
 // Drag (N) on a sphere of diameter d at speed U with Schiller-Naumann.
@@ -44,7 +41,7 @@ UnitConverter::UnitConverter(double dx_si, double dt_si, double fluid_density_si
     : dx_si_(dx_si), dt_si_(dt_si), rho_si_(fluid_density_si), nu_si_(kinematic_viscosity_si) {}
 
 double UnitConverter::viscosity() const { return nu_si_ * dt_si_ / (dx_si_ * dx_si_); }
-double UnitConverter::tau() const { return 0.5 + 3.0 * viscosity(); }
+double UnitConverter::tau() const { return lbm::tau_from_viscosity(viscosity()); }
 
 double mach_number(double lattice_velocity) { return lattice_velocity / kSoundSpeed; }
 
@@ -59,7 +56,8 @@ UnitConverter make_unit_converter(const UnitInputs& in) {
 
   const double dx_si = in.equivalent_diameter_si / in.cells_per_diameter;
   const double nu_si = in.dynamic_viscosity_si / in.fluid_density_si;
-  const auto dt_for_tau = [&](double tau) { return (tau - 0.5) / 3.0 * dx_si * dx_si / nu_si; };
+  // The lattice viscosity of tau is nu_si dt / dx^2.
+  const auto dt_for_tau = [&](double tau) { return lbm::viscosity_from_tau(tau) * dx_si * dx_si / nu_si; };
 
   double dt_si = 0.0;
   if (in.tau) {

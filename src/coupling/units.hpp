@@ -1,5 +1,5 @@
 #pragma once
-// The one converter between the SI case and the lattice (DESIGN.md section 1, "Units").
+// The one converter between the SI case and the lattice (docs/architecture.md, "Units").
 //
 // Lattice units: dx = dt = 1, fluid reference density 1. The grid spacing comes from the
 // resolution of the volume-equivalent diameter, dx_si = d_eq_si / cells_per_diameter. The time

@@ -150,10 +150,6 @@ void read_open_faces(const CaseValues& v, coupling::SimulationSetup& s) {
     throw InputError(s.inflow ? "domain.inflow_velocity: required with domain.inflow (m/s, e.g. [0, 0, 0.05])"
                               : "domain.inflow_velocity: only with domain.inflow (the face the stream enters by)");
   if (s.inflow) s.inflow_velocity_si = vector3(v, "domain.inflow_velocity");
-  if (v.has("domain.inflow_ramp_time")) {
-    if (!s.inflow) throw InputError("domain.inflow_ramp_time: only with domain.inflow");
-    s.inflow_ramp_time_si = v.real("domain.inflow_ramp_time");
-  }
 }
 
 }  // namespace

@@ -87,13 +87,11 @@ std::vector<KeySpec> declare() {
       choice("domain.walls.z", "no-slip", walls, "boundary of the two faces normal to z"),
       choice("domain.inflow", "none", faces,
              "face where a uniform stream enters with domain.inflow_velocity (a velocity inlet), e.g. \"z-\"; replaces "
-             "domain.walls on that face"),
+             "domain.walls on that face; the fluid starts as that stream"),
       vector3("domain.inflow_velocity", std::nullopt, "m/s", {}, "velocity of the stream entering at domain.inflow"),
-      real("domain.inflow_ramp_time", std::nullopt, "s", non_negative(),
-           "the inflow rises smoothly from rest to domain.inflow_velocity over this time (absent: 2 d_eq / |U|; 0: "
-           "an impulsive start)"),
       choice("domain.outflow", "none", faces,
-             "face where the fluid leaves (zero normal gradient), e.g. \"z+\"; replaces domain.walls on that face"),
+             "face where the fluid leaves (a pressure outlet at the reference density), e.g. \"z+\"; replaces "
+             "domain.walls on that face"),
       boolean("domain.follow_particle", false, "moving window: the fluid window follows the particle"),
       // [numerics]
       real("numerics.cells_per_diameter", Value(16.0), "", closed(4.0, 256.0),

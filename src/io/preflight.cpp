@@ -75,33 +75,19 @@ void check_numbers(const coupling::SimulationSetup& s) {
 
 // ---- 2. units -----------------------------------------------------------------------------
 
-// Mirrors check_setup and converter_for of coupling/simulation.cpp (they are file-local there):
-// the same UnitInputs, so the converter refuses here exactly what it would refuse there.
-coupling::UnitConverter checked_units(const coupling::SimulationSetup& s) {
-  if (s.forcing_iterations < 1)
-    throw InputError(fmt::format("numerics.forcing_iterations: must be >= 1, got {}", s.forcing_iterations));
-  if (s.motion == body::MotionKind::free && s.body_force_si.norm() > 0.0)
-    throw InputError("fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
-                     "carried by the driven flow); set it to [0, 0, 0]");
-  coupling::UnitInputs in;
-  in.equivalent_diameter_si = s.shape->equivalent_diameter();
-  in.cells_per_diameter = s.cells_per_diameter;
-  in.fluid_density_si = s.fluid_density_si;
-  in.dynamic_viscosity_si = s.dynamic_viscosity_si;
-  in.expected_speed_si = coupling::expected_speed_si(s);
-  in.max_lattice_velocity = s.max_lattice_velocity;
-  in.max_tau = s.max_tau;
-  in.tau = s.tau;
-  const coupling::UnitConverter units = coupling::make_unit_converter(in);
-  // The converter picks dt so that these hold; a second look guards against a change there that
-  // would let an unsafe dt through (and against NaN from extreme inputs).
-  require_positive(units.dt_si(), "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
-  const double u = units.velocity(in.expected_speed_si);
+// The case's plan (coupling/case_plan.hpp, the same the Simulation is built on): it refuses what
+// the set-up and the converter refuse. A second look at the time step guards against a change
+// there that would let an unsafe dt through (and against NaN from extreme inputs).
+coupling::CasePlan checked_plan(const coupling::SimulationSetup& s) {
+  const coupling::CasePlan plan = coupling::plan_case(s);
+  require_positive(plan.units.dt_si(), "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
+  const double u = plan.units.velocity(plan.expected_speed_si);
   if (!(u <= s.max_lattice_velocity * (1.0 + 1e-12)))
     throw InputError(fmt::format("numerics.max_lattice_velocity: the expected speed {:.4g} m/s is {:.4g} in lattice "
                                  "units (Mach {:.3g}) with dt = {:.4g} s, above the bound {}",
-                                 in.expected_speed_si, u, coupling::mach_number(u), units.dt_si(), s.max_lattice_velocity));
-  return units;
+                                 plan.expected_speed_si, u, coupling::mach_number(u), plan.units.dt_si(),
+                                 s.max_lattice_velocity));
+  return plan;
 }
 
 // ---- 4. grid and memory ---------------------------------------------------------------------
@@ -114,11 +100,11 @@ void check_grid_size(const GridExtent& grid, double dx_si, const Eigen::Vector3d
                                    "(raise domain.size or numerics.cells_per_diameter)",
                                    domain_size_si[a], kAxis[a], n, dx_si));
   }
-  if (grid.total() > kMaxGridCells)
+  if (grid.total() > coupling::kMaxGridCells)
     throw InputError(fmt::format(
         "numerics.cells_per_diameter: the grid would be {:.4g} x {:.4g} x {:.4g} = {:.3g} cells of dx = {:.4g} m (about "
         "{} of memory), more than the {:.0e} cells settle allocates; lower numerics.cells_per_diameter or domain.size",
-        grid.cells[0], grid.cells[1], grid.cells[2], grid.total(), dx_si, bytes_text(estimate_bytes), kMaxGridCells));
+        grid.cells[0], grid.cells[1], grid.cells[2], grid.total(), dx_si, bytes_text(estimate_bytes), coupling::kMaxGridCells));
 }
 
 // Bytes of the lattice parts for a grid too large to lay out: Q + 3 values per cell.
@@ -240,13 +226,12 @@ double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_
   return volume * shrink * shrink * shrink / (dx_si * dx_si * dx_si);
 }
 
-double checked_steps(const coupling::SimulationSetup& s, double dt_si) {
-  const double steps = std::ceil(s.end_time_si / dt_si);
-  if (!(steps <= kMaxSteps))
+double checked_steps(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
+  if (!(plan.steps <= kMaxSteps))
     throw InputError(fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
                                  "count; lower run.end_time",
-                                 s.end_time_si, steps, dt_si));
-  return std::max(1.0, steps);
+                                 s.end_time_si, plan.steps, plan.units.dt_si()));
+  return std::max(1.0, plan.steps);
 }
 
 // Rows kept in RunResult::samples: one at t = 0, one per output time, and the final state.
@@ -282,12 +267,6 @@ std::string write_refusal(const fs::path& dir) {
 }
 
 }  // namespace
-
-GridExtent grid_extent(const Eigen::Vector3d& domain_size_si, double dx_si) {
-  GridExtent g;
-  for (int a = 0; a < 3; ++a) g.cells[static_cast<std::size_t>(a)] = std::round(domain_size_si[a] / dx_si);
-  return g;
-}
 
 double MemoryEstimate::total_bytes() const {
   return populations_bytes + force_bytes + flag_bytes + boundary_links_bytes + body_bytes + output_bytes;
@@ -384,12 +363,8 @@ void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, 
 void check_contact_start(const coupling::SimulationSetup& s, double dx_si, double dt_si,
                          const std::array<double, 3>& cells) {
   if (!s.wall_contact || s.motion != body::MotionKind::free || s.follow_particle) return;
-  const double minimum_cells = ibm::support_half_width(s.kernel) - 0.5;
-  const double distance_cells = s.contact_distance_cells.value_or(ibm::support_half_width(s.kernel));
-  if (!(distance_cells >= minimum_cells && distance_cells <= 1.0e3))
-    throw InputError(fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
-                                 "closer to a wall would put its forcing stencil outside the grid), got {}",
-                                 minimum_cells, ibm::to_string(s.kernel), distance_cells));
+  // Its range is the plan's check (coupling/case_plan.cpp).
+  const double distance_cells = coupling::contact_distance_cells(s);
   const std::array<double, 3> extent_si{cells[0] * dx_si, cells[1] * dx_si, cells[2] * dx_si};
   const FaceClearance clearance =
       face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(),
@@ -466,17 +441,15 @@ std::string PreflightReport::summary() const {
 
 PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOptions& options) {
   check_numbers(s);
-  const coupling::UnitConverter units = checked_units(s);
+  PreflightReport r(checked_plan(s));
   check_net_weight(s);
+  r.dx_si = r.plan.units.dx_si();
+  r.dt_si = r.plan.units.dt_si();
+  r.tau = r.plan.units.tau();
+  r.expected_speed_si = r.plan.expected_speed_si;
+  r.mach = r.plan.mach;
 
-  PreflightReport r;
-  r.dx_si = units.dx_si();
-  r.dt_si = units.dt_si();
-  r.tau = units.tau();
-  r.expected_speed_si = coupling::expected_speed_si(s);
-  r.mach = coupling::mach_number(units.velocity(r.expected_speed_si));
-
-  const GridExtent grid = grid_extent(s.domain_size_si, r.dx_si);
+  const GridExtent grid{r.plan.cells};
   r.cell_count = grid.total();
   check_grid_size(grid, r.dx_si, s.domain_size_si, rough_grid_bytes(grid, s));
   for (std::size_t a = 0; a < 3; ++a) r.cells[a] = static_cast<int>(grid.cells[a]);
@@ -486,7 +459,7 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   r.markers = s.shape->surface_area() / (r.dx_si * r.dx_si);
   check_markers(r.markers, r.dx_si);
   r.markers += estimated_interior_markers(s, r.dx_si);
-  r.steps = checked_steps(s, r.dt_si);
+  r.steps = checked_steps(s, r.plan);
 
   MemoryInputs memory;
   memory.cells = r.cells;

@@ -6,12 +6,12 @@
 // What is checked, in this order (each in its own function below):
 //  1. numbers: every SI quantity of the set-up is finite (the schema already refuses NaN and
 //     infinity in a case; this guards set-ups built in code);
-//  2. units: the converter's dt, tau and Mach bounds (coupling::make_unit_converter, called with
-//     exactly the inputs coupling::Simulation gives it) and the set-up checks of the Simulation
-//     constructor (a body force on a free particle);
+//  2. the plan (coupling::plan_case, the same the Simulation is built on): the converter's dt,
+//     tau and Mach bounds and the set-up's consistency (a body force on a free particle, the
+//     contact parameters);
 //  3. net weight: a free particle heavier or lighter than the fluid drifts along or against
 //     gravity; the domain must not be periodic along gravity (see check_net_weight);
-//  4. grid: at least 4 cells per axis, at most 2e9 cells (the Simulation's own bound), the
+//  4. grid: at least 4 cells per axis, at most coupling::kMaxGridCells, the
 //     memory the run will hold against the memory available;
 //  5. the particle at its initial pose: inside the domain, no wider than it, clear of every wall,
 //     far enough from the walls for the immersed-boundary stencil, and outside the wall-contact
@@ -26,28 +26,26 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "coupling/case_plan.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/units.hpp"
 #include "lbm/config.hpp"
 
 namespace settle::io {
 
-/// The Simulation's own bound on the grid (coupling/simulation.cpp, kMaxCells), mirrored so the
-/// refusal comes with the memory estimate.
-inline constexpr double kMaxGridCells = 2.0e9;
 /// Surface markers above this count are refused by body::validate_marker_spacing.
 inline constexpr double kMaxMarkers = 1.0e6;
 /// Largest step count: t = n dt is exact in double precision up to 2^53 steps.
 inline constexpr double kMaxSteps = 9007199254740992.0;
 
-/// Grid cells of a domain: round(size / dx) per axis (coupling::Simulation's rule).
+/// Grid cells of a domain per axis (coupling::CasePlan::cells).
 struct GridExtent {
   std::array<double, 3> cells{};  ///< per axis, as doubles so absurd requests do not overflow
   double total() const { return cells[0] * cells[1] * cells[2]; }
 };
-GridExtent grid_extent(const Eigen::Vector3d& domain_size_si, double dx_si);
 
 /// What the run will hold in memory, bytes, by part. The lattice Boltzmann parts are exact for
 /// lbm::AaSolver (same layout function); the rest are estimates, noted at each term.
@@ -135,6 +133,8 @@ struct PreflightOptions {
 
 /// What preflight found: the numbers the run will use, printed by `settle run` before it starts.
 struct PreflightReport {
+  explicit PreflightReport(coupling::CasePlan case_plan) : plan(std::move(case_plan)) {}
+  coupling::CasePlan plan;
   double dx_si = 0.0, dt_si = 0.0, tau = 0.0, mach = 0.0, expected_speed_si = 0.0;
   std::array<int, 3> cells{};
   double cell_count = 0.0;

@@ -402,10 +402,10 @@ class AaSolver final : public Solver {
     }
   }
 
-  /// Applies a copy list after the kernel of the given parity. The velocity faces' entries add
-  /// their term times the density of their cell, the sum of its post-collision populations:
-  /// in its own slots after an even kernel, pushed to its neighbours (slot j at x + c_j) after an
-  /// odd one. Neither place is a destination of the lists.
+  /// Applies a copy list after the kernel of the given parity. Inlet and outlet entries take the
+  /// moments of their cell from its post-collision populations: in its own slots after an even
+  /// kernel (f*_j in slot opp j), pushed to its neighbours after an odd one (f*_j in slot j at
+  /// x + c_j). Neither place is a destination of the lists.
   template <bool Odd>
   void apply(const std::vector<CopyEntry>& list, const std::vector<ShiftedCopyEntry>& shifted) {
     Real* const data = populations_.data();
@@ -414,11 +414,19 @@ class AaSolver final : public Solver {
 #pragma omp parallel for schedule(static) if (threaded_)
     for (std::size_t k = 0; k < count; ++k) data[entries[k].dst] = data[entries[k].src];
     for (const ShiftedCopyEntry& e : shifted) {
-      double rho = 1.0;
-      for (int j = 0; j < Q; ++j) {
-        rho += static_cast<double>(data[slot(j, Odd ? static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.cell) +
-                                                                                  layout_.offset(L::set.c[j]))
-                                                        : e.cell)]);
+      double drho = 0.0, j[3] = {0.0, 0.0, 0.0};
+      for (int q = 0; q < Q; ++q) {
+        const double g = static_cast<double>(
+            Odd ? data[slot(q, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.cell) + layout_.offset(L::set.c[q])))]
+                : data[slot(opposite(q), e.cell)]);
+        drho += g;
+        for (int a = 0; a < 3; ++a) j[a] += L::set.c[q][a] * g;
+      }
+      const double rho = 1.0 + drho;
+      if (e.equilibrium_dir >= 0) {
+        data[e.dst] = static_cast<Real>(
+            shifted_equilibrium<L>(e.equilibrium_dir, 0.0, 1.0, j[0] / rho, j[1] / rho, j[2] / rho));
+        continue;
       }
       const double term = e.wall_term[0] * inflow_velocity_[0] + e.wall_term[1] * inflow_velocity_[1] +
                           e.wall_term[2] * inflow_velocity_[2];

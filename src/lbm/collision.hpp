@@ -18,7 +18,8 @@
 // matching rates for TRT, and as S_i/2 after the regularised relaxation (see RR below).
 //
 // Every function is force-inlined and loops over the compile-time velocity set with full
-// unrolling, so that inside the kernel's `omp simd` loop each lattice constant folds away.
+// unrolling, so that inside the kernel's vectorised loop (`GCC ivdep`, lbm/aa_solver.hpp) each
+// lattice constant folds away.
 #include <array>
 #include <cmath>
 
@@ -251,9 +252,9 @@ struct RecursiveRegularized {
     const T omega = T(r.omega_plus);
     const T keep = T(1.0) - omega;
     // The trace (bulk) part of a2 is not kept: its relaxation rate is 1 instead of omega
-    // (bulk viscosity cs^2/3 = 1/9 instead of 2 nu / 3; Dellar 2001,
-    // doi:T(10.1103)/PhysRevE.64.031203). Near tau = 1/2 this damps the under-resolved acoustic
-    // modes that destabilise BGK; the shear (deviatoric) part keeps omega, so the shear
+    // (bulk viscosity cs^2/3 = 1/9 instead of 2 nu / 3; Dellar 2001, "Bulk and shear viscosities
+    // in lattice Boltzmann equations", Phys. Rev. E 64, 031203, doi:10.1103/PhysRevE.64.031203).
+    // Near tau = 1/2 this damps the under-resolved acoustic modes that destabilise BGK; the shear (deviatoric) part keeps omega, so the shear
     // viscosity is unchanged.
     const T bulk = (axx + ayy + azz) / T(3.0);
     const T Axx = m.rho * ux * ux + keep * (axx - bulk);

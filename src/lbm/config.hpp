@@ -24,7 +24,8 @@ enum class Precision { float32, float64 };
 /// Boundary condition of a face. The first three are set per pair of opposite faces
 /// (SolverConfig::boundaries); the open kinds replace that on one face (SolverConfig::open_faces):
 /// - velocity: an inlet of prescribed velocity, bounce-back from a wall moving with it (Ladd 1994);
-/// - outflow: the unknown populations copied from the next cell inwards (zero normal gradient).
+/// - outflow: a pressure outlet, the unknown populations at the equilibrium of density 1 and the
+///   velocity of the neighbouring cell (lbm/grid.hpp, pull_source).
 enum class Boundary { periodic, no_slip, free_slip, velocity, outflow };
 
 /// One face of the box: `axis` 0-2 and `side` 0 (the lower face, at coordinate -1/2) or 1 (the

@@ -49,13 +49,16 @@ struct Link {
   int dir;
 };
 
-/// Where the incoming population of a boundary link comes from: f_i(x) = f*_dir(cell) + added.
+/// Where the incoming population of a boundary link comes from: f_i(x) = f*_dir(cell), and at
+/// inlets and outlets (`shifted`) a value from the moments of `moment_cell`:
+///  - inlet: f*_dir(cell) + rho wall_term.u_w, rho that cell's density, u_w the inflow velocity;
+///  - outlet (`equilibrium`): the equilibrium f_eq_i(1, u), u that cell's velocity.
 struct PullSource {
   Link link;
-  /// Velocity faces: f_i(x) = f*_dir(cell) + rho(x) wall_term.u_w, rho(x) the density of x and
-  /// u_w the inflow velocity; zero elsewhere.
   std::array<double, 3> wall_term{};
-  bool moving = false;
+  bool equilibrium = false;
+  std::array<int, 3> moment_cell{};
+  bool shifted = false;
 };
 
 /// Pull resolution of a link whose upstream cell x - c_i lies outside the domain: the
@@ -69,9 +72,12 @@ struct PullSource {
 ///    the velocity whatever the density level); velocity wins over the kinds below;
 ///  - otherwise axis by axis: a periodic axis wraps; a free-slip axis is mirrored (the source
 ///    cell keeps x's coordinate on that axis) and the direction's component on that axis is
-///    reflected (specular reflection at the half-way wall); an outflow axis is mirrored without
-///    reflection, so f_i(x) = f_i(x - n) after streaming, n the face's outward normal (zero
-///    normal gradient of every unknown population; Junk and Yang 2008 discuss its accuracy).
+///    reflected (specular reflection at the half-way wall); an outflow axis marks an outlet: the
+///    unknown population is the equilibrium at the reference density 1 and the velocity of the
+///    cell it would have been copied from, x - c_i brought back onto the face's layer (an
+///    equilibrium pressure outlet; its velocity has zero normal gradient). A plain copy
+///    f_i(x - n) lets the density level float: after a ramped inflow a channel settled at
+///    rho = 1 / (1 - U), 5% high at U = 0.05, and every force with it.
 /// Without open faces the map is a bijection between incoming and outgoing links with the same
 /// set of out-of-range axes, so the copies conserve mass; inlets and outlets exchange mass with
 /// the outside by design.
@@ -88,11 +94,12 @@ PullSource pull_source(const std::array<int, 3>& x, int i, const std::array<int,
     bounce |= *face[a] == Boundary::no_slip;
     moving |= *face[a] == Boundary::velocity;
   }
-  if (bounce) return {{x, opposite(i)}, {}, false};
+  if (bounce) return {{x, opposite(i)}};
   if (moving) {
     const double weight = 6.0 * L::set.w[i];
-    return {{x, opposite(i)}, {weight * d[0], weight * d[1], weight * d[2]}, true};
+    return {{x, opposite(i)}, {weight * d[0], weight * d[1], weight * d[2]}, false, x, true};
   }
+  bool outflow = false;
   for (std::size_t a = 0; a < 3; ++a) {
     if (!face[a]) continue;
     if (*face[a] == Boundary::periodic) {
@@ -100,13 +107,17 @@ PullSource pull_source(const std::array<int, 3>& x, int i, const std::array<int,
     } else {  // free slip or outflow
       p[a] = x[a];
       if (*face[a] == Boundary::free_slip) d[a] = -d[a];
+      outflow |= *face[a] == Boundary::outflow;
     }
   }
-  return {{p, direction_index<L>(d[0], d[1], d[2])}, {}, false};
+  const Link source{p, direction_index<L>(d[0], d[1], d[2])};
+  if (outflow) return {source, {}, true, p, true};
+  return {source};
 }
 
-/// One element copy buf[dst] = buf[src] (+ rho(cell) wall_term.u_w, for the velocity faces'
-/// lists), both absolute element indices in the population buffer (q * pop_stride + cell).
+/// One element copy buf[dst] = buf[src], both absolute element indices in the population buffer
+/// (q * pop_stride + cell); for inlets and outlets the value PullSource describes from the
+/// moments of `cell`.
 struct CopyEntry {
   std::size_t dst;
   std::size_t src;
@@ -114,8 +125,9 @@ struct CopyEntry {
 struct ShiftedCopyEntry {
   std::size_t dst;
   std::size_t src;
-  std::array<double, 3> wall_term;  ///< 6 w_i c_i
-  std::size_t cell;                 ///< padded index of the link's cell (its populations give the density)
+  std::array<double, 3> wall_term;  ///< 6 w_i c_i at an inlet
+  int equilibrium_dir;              ///< at an outlet the direction i of f_eq_i(1, u); -1 at an inlet
+  std::size_t cell;                 ///< padded index of the cell whose populations give rho and u
 };
 
 /// The copy lists of the AA scheme (see docs/lbm.md, "AA pattern"):
@@ -125,7 +137,8 @@ struct ShiftedCopyEntry {
 ///  - fold: applied after an odd step. The odd kernel of y wrote f*_j(y) into slot j at the
 ///    ghost y + c_j; the fold copies it to the slot the even kernel of x reads for f_i,
 ///    slot i at x.
-/// The links of velocity faces, whose copies add a constant, are in the shifted lists.
+/// The links of inlets and outlets, whose values depend on a cell's moments, are in the shifted
+/// lists.
 /// No entry's source is another entry's destination (sources are interior slots after an even
 /// step and slots the odd kernel wrote after an odd one), so each list applies in any order.
 struct CopyLists {
@@ -165,10 +178,12 @@ CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
                                              src.link.cell[2] + cj[2]};
           const std::size_t fill_dst = slot(opposite(i), upstream), fill_src = slot(opposite(src.link.dir), src.link.cell);
           const std::size_t fold_dst = slot(i, x), fold_src = slot(src.link.dir, src_ghost);
-          if (src.moving) {
-            const std::size_t cell = layout.index(x[0], x[1], x[2]);
-            lists.fill_shifted.push_back({fill_dst, fill_src, src.wall_term, cell});
-            lists.fold_shifted.push_back({fold_dst, fold_src, src.wall_term, cell});
+          if (src.shifted) {
+            const auto& m = src.moment_cell;
+            const std::size_t cell = layout.index(m[0], m[1], m[2]);
+            const int dir = src.equilibrium ? i : -1;
+            lists.fill_shifted.push_back({fill_dst, fill_src, src.wall_term, dir, cell});
+            lists.fold_shifted.push_back({fold_dst, fold_src, src.wall_term, dir, cell});
           } else {
             lists.fill.push_back({fill_dst, fill_src});
             lists.fold.push_back({fold_dst, fold_src});

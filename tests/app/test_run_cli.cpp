@@ -292,3 +292,44 @@ TEST(RunCli, UnderResolvedCaseIsRefusedBeforeRunning) {
 }
 
 }  // namespace
+
+namespace {
+
+// The number after `label` on the plan's line that starts with `line_key`, e.g. ("units", "dt =").
+double plan_number(const std::string& plan, const std::string& line_key, const std::string& label) {
+  const std::size_t line = plan.find("  " + line_key + " ");
+  if (line == std::string::npos) return std::nan("");
+  const std::size_t at = plan.find(label, line);
+  if (at == std::string::npos || at > plan.find('\n', line)) return std::nan("");
+  return std::atof(plan.c_str() + at + label.size());
+}
+
+}  // namespace
+
+// `settle run --dry-run` prints the plan the run itself is built on (coupling/case_plan.hpp) and
+// writes nothing: its dt, tau and step count must be the ones a real run of the same case
+// reports in summary.json (printed with 4 significant digits, hence the relative 1e-3).
+TEST(RunCli, DryRunPrintsThePlanTheRunUsesAndWritesNothing) {
+  const fs::path planned = scratch("dry_run"), ran = scratch("dry_run_real");
+  const std::string args = case_file("periodic_sphere_array.toml") +
+                           " --set numerics.cells_per_diameter=8 --set run.end_time=0.05 --threads 1 -q";
+  const Result plan = run_settle(args + " --dry-run -o " + planned.string());
+  ASSERT_EQ(plan.status, 0) << plan.err;
+  EXPECT_FALSE(fs::exists(planned));
+  EXPECT_NE(plan.out.find("wall time about"), std::string::npos) << plan.out;
+
+  const Result run = run_settle(args + " -o " + ran.string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto summary = nlohmann::json::parse(read_text(ran / "summary.json"));
+  const double dt = summary["dt"].get<double>(), tau = summary["tau"].get<double>();
+  EXPECT_NEAR(plan_number(plan.out, "units", "dt = "), dt, 1e-3 * dt) << plan.out;
+  EXPECT_NEAR(plan_number(plan.out, "units", "tau = "), tau, 1e-4) << plan.out;
+  EXPECT_EQ(plan_number(plan.out, "run", "s = "), summary["steps"].get<double>()) << plan.out;
+  fs::remove_all(ran);
+}
+
+TEST(RunCli, DryRunRefusesARestart) {
+  const Result r = run_settle("--dry-run --restart " + scratch("dry_run_restart").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--dry-run"), std::string::npos) << r.err;
+}

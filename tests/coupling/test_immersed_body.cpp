@@ -37,6 +37,19 @@ std::shared_ptr<const body::Shape> spheroid(double diameter, double aspect_ratio
   return body::make_shape(spec);
 }
 
+// Every cell within `radius` + `margin` of `centre` (lattice units): a box large enough for a
+// sphere of that radius and its forcing stencils, independent of either coupling's own rule.
+CellBox box_around(const Eigen::Vector3d& centre, double radius, double margin) {
+  CellBox box;
+  for (int a = 0; a < 3; ++a) {
+    const int lo = static_cast<int>(std::floor(centre[a] - radius - margin));
+    const int hi = static_cast<int>(std::ceil(centre[a] + radius + margin));
+    box.origin[static_cast<std::size_t>(a)] = lo;
+    box.extent[static_cast<std::size_t>(a)] = hi - lo + 1;
+  }
+  return box;
+}
+
 TEST(Markers, PlacedMarkersAreTheRotatedBodyFrameMarkers) {
   const auto shape = spheroid(2.0e-3, 2.5);
   const double dx = 2.0e-4;

@@ -135,7 +135,7 @@ void expect_bounded_by_the_work_of_the_net_weight(const Fall& f, double duration
 void cube_stays_bounded(double density_ratio) {
   // Set-1 Euler angles of cases/cube.toml: no face or edge horizontal.
   Simulation sim(falling(acrylic_cube_shape(), density_ratio, attitude::Attitude::from_set1(0.3, 0.5, 0.2)));
-  constexpr double kDuration = 0.1;  // s: the brief's 0.1 s of fall, about 600 steps at rho ratio 1.19
+  constexpr double kDuration = 0.1;  // s: 0.1 s of fall, about 600 steps at rho ratio 1.19
   const Fall f = fall_for(sim, kDuration);
   std::printf("[measured] cube rho_p/rho_f = %.2f, 8 cells: %lld steps, max E_kin/W = %.4f, max E_rot/W = %.3g, "
               "max |omega| = %.3g rad/s, sinking at %.4g m/s\n",

@@ -118,7 +118,7 @@ ContactNumbers contact_numbers(const Simulation& sim) {
           -sim.body().net_weight_si().z()};
 }
 
-/// The checks both bodies share (brief: comes to rest, no overlap beyond the model's bound, no NaN).
+/// The checks both bodies share: comes to rest, no overlap beyond the model's bound, no NaN.
 void expect_resting_on_the_floor(const Settling& r, const ContactNumbers& c) {
   ASSERT_TRUE(r.finite);
   // The body's forcing stencils stayed inside the grid all along (Simulation::can_step).

@@ -39,6 +39,7 @@ struct TowedSphereOptions {
   double ahead_diameters = 5.0;   ///< fluid ahead of the sphere's centre
   double behind_diameters = 11.0; ///< wake room behind it
   double travel_diameters = 30.0; ///< run length
+  CouplingKind coupling = CouplingKind::immersed_boundary;
 };
 
 struct TowedSphereResult {
@@ -71,6 +72,7 @@ inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
   s.domain_size_si = Eigen::Vector3d(width, width, length);
   s.boundaries = {lbm::Boundary::free_slip, lbm::Boundary::free_slip, lbm::Boundary::no_slip};
   s.follow_particle = true;
+  s.coupling = o.coupling;
   s.initial.position_si = Eigen::Vector3d(0.5 * width, 0.5 * width, std::round(o.ahead_diameters * d));
   s.initial.velocity_si = Eigen::Vector3d(0.0, 0.0, -o.lattice_speed);
   s.cells_per_diameter = d;
@@ -109,9 +111,9 @@ inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
 
 inline TowedSphereResult run_towed_sphere_printed(const TowedSphereOptions& o) {
   const TowedSphereResult r = run_towed_sphere(o);
-  std::printf("Re = %g, d = %g cells (%dx%dx%d, tau %.4f, %lld steps): C_D = %.4f (fifth before %.4f), "
+  std::printf("%s, Re = %g, d = %g cells (%dx%dx%d, tau %.4f, %lld steps): C_D = %.4f (fifth before %.4f), "
               "Clift %.4f (%+.2f%%), lateral %.1e, slip max %.3f rms %.4f U\n",
-              o.reynolds, o.cells_per_diameter, r.cells[0], r.cells[1], r.cells[2], r.tau,
+              to_string(o.coupling).c_str(), o.reynolds, o.cells_per_diameter, r.cells[0], r.cells[1], r.cells[2], r.tau,
               static_cast<long long>(r.steps), r.drag_coefficient, r.previous_fifth, r.reference,
               100.0 * (r.drag_coefficient / r.reference - 1.0), r.lateral_ratio, r.slip_max, r.slip_rms);
   std::fflush(stdout);

@@ -1,5 +1,6 @@
 // Validation (label `validation`): drag of a sphere towed through fluid at rest at Re = 20, 50
 // and 100 against the standard drag curve (towed_sphere.hpp), and its grid convergence at Re = 20.
+// Environment: SETTLE_TOWED_CELLS (cells per diameter, default 16), SETTLE_TOWED_COUPLING.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,11 +18,19 @@ double resolution_from_environment(double fallback) {
   return value ? std::atof(value) : fallback;
 }
 
+// SETTLE_TOWED_COUPLING: immersed_boundary (default) or momentum_exchange.
+settle::coupling::CouplingKind coupling_from_environment() {
+  const char* value = std::getenv("SETTLE_TOWED_COUPLING");
+  return value ? settle::coupling::parse_coupling(value, "SETTLE_TOWED_COUPLING")
+               : settle::coupling::CouplingKind::immersed_boundary;
+}
+
 void check(double reynolds, double travel_diameters) {
   TowedSphereOptions o;
   o.reynolds = reynolds;
   o.travel_diameters = travel_diameters;
   o.cells_per_diameter = resolution_from_environment(16.0);
+  o.coupling = coupling_from_environment();
   const TowedSphereResult r = run_towed_sphere_printed(o);
   // Start-up transient over: the mean drag of the last fifth of the travel differs from the fifth
   // before by less than a tenth of the 4% budget.

@@ -96,7 +96,7 @@ class Reference {
         }
       }
     }
-    if (pull_form) finish_outflow_and_walls();
+    if (pull_form) finish_walls();
   }
 
  private:
@@ -205,7 +205,7 @@ class Reference {
   }
 
   // Pull form: f_k(x) = f*_k(x - c_k) where x - c_k is fluid (periodic axes wrapped); links from
-  // solid cells and through outflow faces are left for finish_outflow_and_walls.
+  // solid cells are left for finish_walls.
   void pull(int x, int y, int z, int k) {
     const std::array<int, 3> to{x, y, z};
     const std::array<int, 3> extent{cfg_.nx, cfg_.ny, cfg_.nz};
@@ -242,34 +242,22 @@ class Reference {
         from[a] = to[a];
         dir[a] = -dir[a];
       }
-      outflow |= crossed[a] == Boundary::outflow;
+      if (crossed[a] == Boundary::outflow) {
+        from[a] = to[a];
+        outflow = true;
+      }
     }
-    if (outflow) return;  // f_k(x) = f_k(x - n) once the inner cells have theirs
+    if (outflow) {
+      // Equilibrium pressure outlet: f_eq_k(1, u) with u the post-collision velocity of x - c_k
+      // brought back onto the layers of the open or mirrored faces it crossed.
+      target = equilibrium(k, 1.0, velocity(from[0], from[1], from[2]));
+      return;
+    }
     target = post_[cell(from[0], from[1], from[2]) * q_ + index_of(dir)];
   }
 
-  // Second pass: outflow links copy the streamed population of the cell one step inwards along
-  // every outflow face they cross; links from a solid cell take the wall's interpolation.
-  void finish_outflow_and_walls() {
-    const std::array<int, 3> extent{cfg_.nx, cfg_.ny, cfg_.nz};
-    const FaceKinds kinds = face_kinds(cfg_);
-    for (int z = 0; z < cfg_.nz; ++z)
-      for (int y = 0; y < cfg_.ny; ++y)
-        for (int x = 0; x < cfg_.nx; ++x)
-          for (int k = 0; k < q_; ++k) {
-            if (!std::isnan(f(cell(x, y, z), k))) continue;
-            std::array<int, 3> inner{x, y, z};
-            bool through_outflow = false;
-            for (int a = 0; a < 3; ++a) {
-              const int from = inner[a] - lat_.c[k][a];
-              if (from >= 0 && from < extent[a]) continue;
-              if (kinds[a][from < 0 ? 0 : 1] == Boundary::outflow) {
-                inner[a] += from < 0 ? 1 : -1;
-                through_outflow = true;
-              }
-            }
-            if (through_outflow) f(cell(x, y, z), k) = f(cell(inner[0], inner[1], inner[2]), k);
-          }
+  // Second pass: links from a solid cell take the wall's interpolation.
+  void finish_walls() {
     momentum_.assign(links_.size(), Eigen::Vector3d::Zero());
     for (std::size_t m = 0; m < links_.size(); ++m) close_link(m);
   }
@@ -309,6 +297,17 @@ class Reference {
     double rho = 0.0;
     for (int k = 0; k < q_; ++k) rho += post_[cell(x, y, z) * q_ + k];
     return rho;
+  }
+
+  Eigen::Vector3d velocity(int x, int y, int z) const {
+    Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
+    for (int k = 0; k < q_; ++k) momentum += post_[cell(x, y, z) * q_ + k] * cvec(k);
+    return momentum / density(x, y, z);
+  }
+
+  double equilibrium(int k, double rho, const Eigen::Vector3d& u) const {
+    const double cu = cvec(k).dot(u);
+    return lat_.w[k] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * u.squaredNorm());
   }
 
   int index_of(const std::array<int, 3>& dir) const {

@@ -89,7 +89,7 @@ TEST(LbmPoiseuille, NonMagicTrtIsViscosityDependentAndSecondOrder) {
   }
   for (std::size_t k = 1; k < errors.size(); ++k) {
     const double order = std::log2(errors[k - 1] / errors[k]);
-    // Second order means 4x smaller per halving of dx; the brief's band 1.8..2.2.
+    // Second order means 4x smaller per halving of dx; accepted band 1.8..2.2.
     EXPECT_GT(order, 1.8) << "refinement " << k;
     EXPECT_LT(order, 2.2) << "refinement " << k;
     std::printf("TRT Lambda 1/4: H %d -> %d: L2 %.3e -> %.3e, order %.3f\n", 8 << (k - 1),
@@ -106,7 +106,7 @@ TEST(LbmPoiseuille, BgkWallErrorIsSecondOrder) {
   }
   for (std::size_t k = 1; k < errors.size(); ++k) {
     const double order = std::log2(errors[k - 1] / errors[k]);
-    EXPECT_GT(order, 1.8) << "refinement " << k;  // brief's band for second order
+    EXPECT_GT(order, 1.8) << "refinement " << k;  // the band for second order
     EXPECT_LT(order, 2.2) << "refinement " << k;
     std::printf("BGK tau 0.7: H %d -> %d: L2 %.3e -> %.3e, order %.3f\n", 8 << (k - 1),
                 8 << k, errors[k - 1], errors[k], order);

@@ -120,7 +120,7 @@ TEST(LbmStability, RecursiveRegularizedStillDecaysAtTheRightRateAtTheSameTau) {
   const double exact = 2.0 * viscosity_from_tau(kTau) * 2.0 * k * k;
   std::printf("TGV 32^2 rr tau = 0.5 + 1.5e-4: rate %.4e, exact %.4e, error %.3e\n", rate, exact,
               std::abs(rate / exact - 1.0));
-  // Tolerance 1 % (the brief's TGV bound): the viscosity is second-order accurate in
+  // Tolerance 1 % (the bound of the 64^3 Taylor-Green test): the viscosity is second-order accurate in
   // k dx = 0.2 (error a few 1e-3 at most) and the energy still falls 15 % over the fit, so
   // the rate is well determined; a model that buys stability with extra shear dissipation
   // (e.g. the bulk rate leaking into the shear part) would be off by O(1) at this tiny nu.

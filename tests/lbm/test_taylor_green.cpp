@@ -70,7 +70,7 @@ TEST(LbmTaylorGreen, TrtD3Q19EnergyDecayRateWithinOnePercentAt64Cubed) {
                               0.65, 0, 1, 50, 350);
   std::printf("TGV 64^3 D3Q19 TRT tau 0.65: rate %.6e, exact 2 nu K = %.6e, error %.3e\n",
               r.measured_rate, r.exact_rate, r.relative_error());
-  // The brief's 1 %: LBM's viscosity is second-order accurate in k dx = 0.098 (error
+  // 1 %: LBM's viscosity is second-order accurate in k dx = 0.098 (error
   // ~1e-3) and the Mach-number error ~Ma^2 ~ 1e-3, so 1 % is a safe yet failing-capable bound
   // (a wrong tau-nu relation or forcing-free viscosity error shows up as several %).
   EXPECT_LT(r.relative_error(), 0.01);

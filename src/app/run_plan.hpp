@@ -1,0 +1,15 @@
+#pragma once
+// `settle run --dry-run`: the plan of a case (coupling/case_plan.hpp) as the preflight checked it,
+// with an estimate of the wall time, printed without running and without writing anything.
+#include <string>
+
+#include "coupling/setup.hpp"
+#include "io/preflight.hpp"
+
+namespace settle::app {
+
+/// The plan's lines: units, grid, steps, the body on the grid, memory, and the wall time the
+/// fluid kernel alone would take at the throughput measured now on this machine.
+std::string run_plan_text(const coupling::SimulationSetup& setup, const io::PreflightReport& report);
+
+}  // namespace settle::app

@@ -1,0 +1,42 @@
+#pragma once
+// The plan of a case: what a run derives from its set-up before it allocates anything, the unit
+// conversion, the grid, the step count and the dimensionless groups (docs/architecture.md,
+// "Units"). coupling::Simulation is built on it, io::preflight checks it against the machine and
+// `settle run --dry-run` prints it; no other code computes these numbers.
+#include <array>
+#include <cstdint>
+
+#include "coupling/setup.hpp"
+#include "coupling/units.hpp"
+
+namespace settle::coupling {
+
+/// Largest grid settle allocates: 2e9 cells is about 300 GB of D3Q19 doubles.
+inline constexpr double kMaxGridCells = 2.0e9;
+
+/// The speed the time step must resolve (see the file comment of units.hpp): towing speed plus
+/// rotation, the estimated driven speed for a fixed body with a body force, or the larger of the
+/// Schiller-Naumann terminal speed of the volume-equivalent sphere and the initial speed, plus
+/// rotation, for a free body; plus the speed of an inflow.
+double expected_speed_si(const SimulationSetup& setup);
+
+struct CasePlan {
+  UnitConverter units;             ///< dx, dt, tau
+  double expected_speed_si = 0.0;  ///< the speed dt was chosen for
+  double mach = 0.0;               ///< of the expected speed
+  double reynolds = 0.0;           ///< expected speed x d_eq / nu
+  double galileo = 0.0;
+  double equivalent_diameter_si = 0.0;
+  /// round(size / dx) per axis, as doubles so that an absurd request is reported, not overflowed.
+  std::array<double, 3> cells{};
+  double steps = 0.0;             ///< steps to reach run.end_time (time_control.hpp's count)
+  std::int64_t release_step = 0;  ///< a free body is held during the steps before this one
+  [[nodiscard]] double cell_count() const { return cells[0] * cells[1] * cells[2]; }
+};
+
+/// Checks the set-up's consistency (settle::InputError naming the key: a body force on a free
+/// body, forcing iterations, the contact parameters, the converter's bounds) and plans it.
+/// Allocates nothing proportional to the grid.
+CasePlan plan_case(const SimulationSetup& setup);
+
+}  // namespace settle::coupling

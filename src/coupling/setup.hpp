@@ -1,0 +1,86 @@
+#pragma once
+// The set-up of one run in SI units: the particle, the fluid, the domain, the numerics and the
+// contact model, as io/case.cpp builds it from a case file (docs/case-file.md lists the keys).
+#include <array>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "body/rigid_body.hpp"
+#include "body/shape.hpp"
+#include "coupling/body_coupling.hpp"
+#include "coupling/immersed_body.hpp"
+#include "ibm/delta.hpp"
+#include "lbm/config.hpp"
+
+namespace settle::coupling {
+
+/// Everything a run needs, in SI (built from a case by io/case.hpp).
+struct SimulationSetup {
+  std::string name = "case";
+  std::shared_ptr<const body::Shape> shape;
+  double particle_density_si = 1050.0;
+  body::MotionKind motion = body::MotionKind::free;
+  /// Initial state. For a towed body, velocity_si and angular_velocity_b_si are the prescribed
+  /// constant motion.
+  body::RigidBodyState initial;
+  /// Free bodies: until this time (s) the body keeps its initial velocity and angular velocity
+  /// while the flow around it develops, then it moves freely (particle.release_time).
+  double release_time_si = 0.0;
+
+  double fluid_density_si = 998.2;
+  double dynamic_viscosity_si = 1.0e-3;
+  Eigen::Vector3d gravity_si{0.0, 0.0, -9.81};
+  Eigen::Vector3d body_force_si = Eigen::Vector3d::Zero();  ///< N/m^3 on the fluid
+
+  Eigen::Vector3d domain_size_si = Eigen::Vector3d::Constant(0.01);
+  std::array<lbm::Boundary, 3> boundaries{lbm::Boundary::no_slip, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
+  /// A face where the fluid enters with inflow_velocity_si (a uniform stream), and one where it
+  /// leaves; each replaces the pair's kind on that face (lbm::OpenFace).
+  std::optional<lbm::Face> inflow;
+  Eigen::Vector3d inflow_velocity_si = Eigen::Vector3d::Zero();
+  std::optional<lbm::Face> outflow;
+  bool follow_particle = false;
+
+  double cells_per_diameter = 16.0;
+  lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
+  lbm::CollisionKind collision = lbm::CollisionKind::trt;
+  lbm::Precision precision = lbm::Precision::float64;
+  CouplingKind coupling = CouplingKind::immersed_boundary;
+  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
+  ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
+  int forcing_iterations = 3;
+  double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md
+  bool interior_markers = false;          ///< volume markers inside the body (make_body_markers)
+  double max_lattice_velocity = 0.05;
+  double max_tau = 2.0;
+  std::optional<double> tau;
+
+  // Particle-wall contact (body/contact.hpp) with the walls of the non-periodic axes. Off when the
+  // window follows the particle (it then never nears a face: the window keeps it at its start).
+  bool wall_contact = true;
+  double contact_restitution = 0.97;    ///< dry normal restitution e in (0, 1] (glass, steel: ~0.97)
+  /// beta of the wet restitution e exp(-beta / St) (body/contact.hpp; Legendre et al. 2006); 0: dry contacts
+  double contact_wet_stokes_scale = 35.0;
+  double contact_collision_steps = 10.0;  ///< collision time T_c in fluid time steps (Kempe and Froehlich 2012)
+  /// Gap (cells) at which the contact spring starts. Unset: the delta kernel's half-width (1.5 cells
+  /// for roma3, 2 for peskin4), so the surface markers' stencils stay inside the grid at rest and
+  /// under impacts up to several times the expected speed (docs/rigid-body.md).
+  std::optional<double> contact_distance_cells;
+
+  double end_time_si = 1.0;
+  double output_interval_si = 0.005;
+};
+
+/// The gap (cells) at which the contact spring starts: the case's, else the delta kernel's
+/// half-width. The stencil of a point at lattice coordinate x starts at cell floor(x - h) + 1
+/// (ibm::axis_stencil), which stays >= 0 for a point at least h - 1/2 cells above the wall plane
+/// at -1/2; the extra half cell takes the overlap of impacts.
+inline double contact_distance_cells(const SimulationSetup& s) {
+  return s.contact_distance_cells.value_or(ibm::support_half_width(s.kernel));
+}
+
+}  // namespace settle::coupling
