@@ -29,6 +29,7 @@
 #include "app/run_checkpoints.hpp"
 #include "app/run_plan.hpp"
 #include "app/console.hpp"
+#include "app/output_values.hpp"
 #include "app/summary_fields.hpp"
 #include "body/surface_triangulation.hpp"
 #include "common/atomic_file.hpp"
@@ -61,7 +62,6 @@ struct RunOptions {
   std::string restart_dir;  ///< --restart DIR (app/run_checkpoints.hpp)
 };
 
-constexpr double kBytesPerGiB = 1024.0 * 1024.0 * 1024.0;
 
 void check_flags(const RunOptions& options) {
   if (options.threads < 0)
@@ -132,8 +132,6 @@ std::string derived_block(const coupling::Simulation& sim) {
       d.dx_si, d.dt_si, d.tau, d.cells[0], d.cells[1], d.cells[2], d.equivalent_diameter_si, d.expected_speed_si,
       d.mach, d.reynolds, d.galileo, d.marker_count, sim.setup().marker_retraction_cells);
 }
-
-nlohmann::json vector_json(const Eigen::Vector3d& v) { return nlohmann::json::array({v[0], v[1], v[2]}); }
 
 // What the run itself reports: the case, the converter's numbers, the loop's figures and timing.
 nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResult& result,

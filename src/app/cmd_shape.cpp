@@ -13,6 +13,7 @@
 
 #include "app/commands.hpp"
 #include "app/flag_values.hpp"
+#include "app/output_values.hpp"
 #include "app/shape_flags.hpp"
 #include "body/shape_factors.hpp"
 #include "body/shape_factory.hpp"
@@ -61,8 +62,6 @@ CaseParticle read_case_particle(const std::filesystem::path& path) {
 }
 
 // ------------------------------------------------------------------ output
-json vector_json(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
-
 json matrix_json(const Eigen::Matrix3d& m) {
   return json::array({vector_json(m.row(0).transpose()), vector_json(m.row(1).transpose()), vector_json(m.row(2).transpose())});
 }

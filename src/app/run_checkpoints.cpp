@@ -29,7 +29,7 @@ constexpr const char* kCaseNameBlob = "run/case_name";
 
 fs::path timeseries_path(const fs::path& run_dir) { return run_dir / "timeseries.csv"; }
 
-void write_sample(io::RecordWriter& out, const coupling::Sample& s) {
+void write_sample(RecordWriter& out, const coupling::Sample& s) {
   out.f64(s.t_si);
   out.vec3(s.position_si);
   out.vec3(s.velocity_si);
@@ -49,7 +49,7 @@ void write_sample(io::RecordWriter& out, const coupling::Sample& s) {
   out.f64(s.wall_gap_si);
 }
 
-coupling::Sample read_sample(io::RecordReader& in, const std::string& section) {
+coupling::Sample read_sample(RecordReader& in, const std::string& section) {
   coupling::Sample s;
   s.t_si = in.f64();
   s.position_si = in.vec3();
@@ -58,7 +58,7 @@ coupling::Sample read_sample(io::RecordReader& in, const std::string& section) {
   s.angular_velocity_b_si = in.vec3();
   const std::uint32_t set = in.u32();
   if (set != 1 && set != 2)
-    throw io::CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", section, set));
+    throw CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", section, set));
   s.attitude = attitude::Attitude(set == 1 ? attitude::EulerSet::set1 : attitude::EulerSet::set2, in.vec3());
   s.hydrodynamic.force_si = in.vec3();
   s.hydrodynamic.torque_si = in.vec3();
@@ -73,7 +73,7 @@ coupling::Sample read_sample(io::RecordReader& in, const std::string& section) {
 }
 
 std::size_t sample_record_bytes() {
-  io::RecordWriter one;
+  RecordWriter one;
   write_sample(one, coupling::Sample{});
   return one.take().size();
 }
@@ -82,7 +82,7 @@ std::size_t sample_record_bytes() {
 double stored_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const auto it = caller.values.find(name);
   if (it == caller.values.end())
-    throw io::CheckpointError(fmt::format("the checkpoint has no value '{}' (not written by settle run?)", name));
+    throw CheckpointError(fmt::format("the checkpoint has no value '{}' (not written by settle run?)", name));
   return it->second;
 }
 
@@ -90,7 +90,7 @@ double stored_value(const coupling::CheckpointCallerData& caller, const char* na
 double measured_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const double value = stored_value(caller, name);
   if (!(value >= 0.0) || !std::isfinite(value))
-    throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a non-negative number", name, value));
+    throw CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a non-negative number", name, value));
   return value;
 }
 
@@ -98,14 +98,14 @@ double measured_value(const coupling::CheckpointCallerData& caller, const char* 
 std::int64_t whole_value(const coupling::CheckpointCallerData& caller, const char* name) {
   const double value = stored_value(caller, name);
   if (!(value >= 0.0 && value <= 9007199254740992.0 && std::floor(value) == value))
-    throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a count", name, value));
+    throw CheckpointError(fmt::format("value '{}' of the checkpoint is {}, not a count", name, value));
   return static_cast<std::int64_t>(value);
 }
 
 const std::vector<std::byte>& blob(const coupling::CheckpointCallerData& caller, const char* name) {
   const auto it = caller.blobs.find(name);
   if (it == caller.blobs.end())
-    throw io::CheckpointError(fmt::format("the checkpoint has no record '{}' (not written by settle run?)", name));
+    throw CheckpointError(fmt::format("the checkpoint has no record '{}' (not written by settle run?)", name));
   return it->second;
 }
 
@@ -114,7 +114,7 @@ void sync_to_disk(const fs::path& file) {
   try {
     sync_file_to_disk(file);
   } catch (const InputError& e) {
-    throw io::CheckpointError(fmt::format("before the checkpoint: {}", e.what()));
+    throw CheckpointError(fmt::format("before the checkpoint: {}", e.what()));
   }
 }
 
@@ -137,18 +137,18 @@ std::string signal_name(int signal_number) {
 }  // namespace
 
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples) {
-  io::RecordWriter out;
+  RecordWriter out;
   out.u64(samples.size());
   for (const coupling::Sample& s : samples) write_sample(out, s);
   return out.take();
 }
 
 std::vector<coupling::Sample> samples_from_record(std::span<const std::byte> record, const std::string& section) {
-  io::RecordReader in(record, section);
+  RecordReader in(record, section);
   const std::uint64_t count = in.u64();
   // Checked before anything is allocated: a corrupt count must not ask for terabytes.
   if (record.size() - sizeof count != count * sample_record_bytes())
-    throw io::CheckpointError(
+    throw CheckpointError(
         fmt::format("checkpoint section '{}': {} bytes cannot hold {} samples", section, record.size(), count));
   std::vector<coupling::Sample> samples;
   samples.reserve(count);
@@ -198,7 +198,7 @@ void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunS
   std::error_code error;
   const std::uintmax_t timeseries_bytes = fs::file_size(timeseries, error);
   if (error)
-    throw io::CheckpointError(
+    throw CheckpointError(
         fmt::format("{}: cannot measure it for the checkpoint: {}", timeseries.string(), error.message()));
   coupling::CheckpointCallerData data;
   data.resolved_case = resolved_case_;
@@ -223,7 +223,7 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
   if (!fs::is_directory(run_dir_, error))
     throw InputError(fmt::format("--restart {}: no such run directory", run_dir_.string()));
   if (!fs::exists(file_, error))
-    throw io::CheckpointError(
+    throw CheckpointError(
         fmt::format("{}: no checkpoint to restart from (settle run writes one every "
                     "run.checkpoint_interval and when SIGINT or SIGTERM stops it)",
                     file_.string()));
@@ -238,7 +238,7 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
     vtk_.next_index = whole_value(caller, kVtkNextIndex);
     const std::int64_t files = whole_value(caller, kVtkFilesWritten);
     if (files > std::numeric_limits<int>::max())
-      throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kVtkFilesWritten, files));
+      throw CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kVtkFilesWritten, files));
     vtk_.files_written = static_cast<int>(files);
     loop_.step = checkpoint_->steps();
     loop_.next_output_index = whole_value(caller, kOutputNextIndex);
@@ -247,14 +247,14 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
     loop_.extremes.lattice_speed = measured_value(caller, kPeakLatticeSpeed);
     const std::int64_t threads = whole_value(caller, kThreads);
     if (threads < 1 || threads > std::numeric_limits<int>::max())
-      throw io::CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kThreads, threads));
+      throw CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kThreads, threads));
     threads_ = static_cast<int>(threads);
     loop_.samples = samples_from_record(blob(caller, kSamplesBlob), std::string("caller/blob/") + kSamplesBlob);
-  } catch (const io::CheckpointError& e) {
+  } catch (const CheckpointError& e) {
     // Every message names the file (the section readers name only the section).
     const std::string message = e.what();
     if (message.rfind(file_.string(), 0) == 0) throw;
-    throw io::CheckpointError(fmt::format("{}: {}", file_.string(), message));
+    throw CheckpointError(fmt::format("{}: {}", file_.string(), message));
   }
   values_.emplace(io::parse_case(io::case_schema(), resolved_case_, file_.string() + " (its resolved case)"));
 

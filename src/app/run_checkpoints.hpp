@@ -35,9 +35,9 @@ struct VtkProgress {
   int files_written = 0;        ///< the number NNNNNN of the next fluid_NNNNNN.vti / surface_NNNNNN.vtp
 };
 
-/// The samples as a checkpoint record (io::RecordWriter): every coupling::Sample field, bit for bit.
+/// The samples as a checkpoint record (RecordWriter): every coupling::Sample field, bit for bit.
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples);
-/// The inverse of samples_record. io::CheckpointError naming `section` when the record is malformed.
+/// The inverse of samples_record. CheckpointError naming `section` when the record is malformed.
 std::vector<coupling::Sample> samples_from_record(std::span<const std::byte> record, const std::string& section);
 
 /// `--restart DIR` takes the case, its overrides and its directory from the checkpoint: a case file,
@@ -70,7 +70,7 @@ class RunCheckpoints {
 };
 
 /// `settle run --restart DIR`: DIR/checkpoint.bin opened, verified and decoded, before anything in
-/// DIR is changed. Every refusal is an io::CheckpointError or settle::InputError (exit 2) naming
+/// DIR is changed. Every refusal is an CheckpointError or settle::InputError (exit 2) naming
 /// the file.
 class RestartPoint {
  public:

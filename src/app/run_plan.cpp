@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include "app/output_values.hpp"
 #include "coupling/body_coupling.hpp"
 #include "lbm/config.hpp"
 #include "lbm/solver.hpp"
@@ -33,8 +34,6 @@ double measured_kernel_updates_per_second(const coupling::SimulationSetup& s, do
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return static_cast<double>(kSide) * kSide * kSide * kTimedSteps / seconds;
 }
-
-constexpr double kBytesPerGiB = 1024.0 * 1024.0 * 1024.0;
 
 std::string duration_text(double seconds) {
   if (seconds < 120.0) return fmt::format("{:.0f} s", seconds);

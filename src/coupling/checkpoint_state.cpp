@@ -106,7 +106,7 @@ Fingerprint fingerprint_of(const Simulation& sim) {
 }
 
 std::vector<std::byte> encode_fingerprint(const Fingerprint& fingerprint) {
-  io::RecordWriter out;
+  RecordWriter out;
   out.u64(fingerprint.size());
   for (const FingerprintEntry& e : fingerprint) {
     out.string(e.name);
@@ -117,7 +117,7 @@ std::vector<std::byte> encode_fingerprint(const Fingerprint& fingerprint) {
 }
 
 Fingerprint decode_fingerprint(std::span<const std::byte> data) {
-  io::RecordReader in(data, kFingerprintSection);
+  RecordReader in(data, kFingerprintSection);
   Fingerprint fingerprint;
   // No reserve from the stored count: a malformed count fails at the first read past the end.
   for (std::uint64_t n = in.u64(); n > 0; --n) {
@@ -131,12 +131,12 @@ Fingerprint decode_fingerprint(std::span<const std::byte> data) {
   return fingerprint;
 }
 
-void write_wrench(io::RecordWriter& out, const body::Wrench& w) {
+void write_wrench(RecordWriter& out, const body::Wrench& w) {
   out.vec3(w.force_si);
   out.vec3(w.torque_si);
 }
 
-body::Wrench read_wrench(io::RecordReader& in) {
+body::Wrench read_wrench(RecordReader& in) {
   body::Wrench w;
   w.force_si = in.vec3();
   w.torque_si = in.vec3();
@@ -144,7 +144,7 @@ body::Wrench read_wrench(io::RecordReader& in) {
 }
 
 std::vector<std::byte> encode_body(const body::RigidBodyState& s) {
-  io::RecordWriter out;
+  RecordWriter out;
   out.vec3(s.position_si);
   out.vec3(s.velocity_si);
   out.u32(static_cast<std::uint32_t>(s.attitude.set()));
@@ -154,24 +154,24 @@ std::vector<std::byte> encode_body(const body::RigidBodyState& s) {
 }
 
 body::RigidBodyState decode_body(std::span<const std::byte> data) {
-  io::RecordReader in(data, kBodySection);
+  RecordReader in(data, kBodySection);
   body::RigidBodyState s;
   s.position_si = in.vec3();
   s.velocity_si = in.vec3();
   const std::uint32_t set = in.u32();
-  if (set != 1 && set != 2) throw io::CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", kBodySection, set));
+  if (set != 1 && set != 2) throw CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", kBodySection, set));
   const Eigen::Vector3d angles = in.vec3();
   s.attitude = attitude::Attitude(static_cast<attitude::EulerSet>(set), angles);
   s.angular_velocity_b_si = in.vec3();
   in.expect_end();
   if (!s.position_si.allFinite() || !s.velocity_si.allFinite() || !angles.allFinite() ||
       !s.angular_velocity_b_si.allFinite())
-    throw io::CheckpointError(fmt::format("checkpoint section '{}': the body state is not finite", kBodySection));
+    throw CheckpointError(fmt::format("checkpoint section '{}': the body state is not finite", kBodySection));
   return s;
 }
 
 std::vector<std::byte> encode_fluid(const lbm::FluidState& f) {
-  io::RecordWriter out;
+  RecordWriter out;
   const lbm::StateLayout& l = f.layout;
   for (const int n : {l.nx, l.ny, l.nz, l.q}) out.i64(n);
   out.u32(l.element_bytes);
@@ -185,7 +185,7 @@ std::vector<std::byte> encode_fluid(const lbm::FluidState& f) {
 
 /// The fluid record; the populations view is filled in from its own section.
 lbm::FluidState decode_fluid(std::span<const std::byte> data) {
-  io::RecordReader in(data, kFluidSection);
+  RecordReader in(data, kFluidSection);
   lbm::FluidState f;
   lbm::StateLayout& l = f.layout;
   for (int* n : {&l.nx, &l.ny, &l.nz, &l.q}) *n = static_cast<int>(in.i64());
@@ -199,14 +199,14 @@ lbm::FluidState decode_fluid(std::span<const std::byte> data) {
 }
 
 std::vector<std::byte> encode_solid_cells(const std::vector<std::uint64_t>& cells) {
-  io::RecordWriter out;
+  RecordWriter out;
   out.u64(cells.size());
   for (const std::uint64_t n : cells) out.u64(n);
   return out.take();
 }
 
 std::vector<std::uint64_t> decode_solid_cells(std::span<const std::byte> data) {
-  io::RecordReader in(data, kSolidCellsSection);
+  RecordReader in(data, kSolidCellsSection);
   std::vector<std::uint64_t> cells;
   for (std::uint64_t n = in.u64(); n > 0; --n) cells.push_back(in.u64());
   in.expect_end();
@@ -214,7 +214,7 @@ std::vector<std::uint64_t> decode_solid_cells(std::span<const std::byte> data) {
 }
 
 std::vector<std::byte> encode_values(const std::map<std::string, double>& values) {
-  io::RecordWriter out;
+  RecordWriter out;
   out.u64(values.size());
   for (const auto& [name, value] : values) {
     out.string(name);
@@ -224,7 +224,7 @@ std::vector<std::byte> encode_values(const std::map<std::string, double>& values
 }
 
 std::map<std::string, double> decode_values(std::span<const std::byte> data) {
-  io::RecordReader in(data, kCallerValuesSection);
+  RecordReader in(data, kCallerValuesSection);
   std::map<std::string, double> values;
   for (std::uint64_t n = in.u64(); n > 0; --n) {
     std::string name = in.string();
@@ -241,7 +241,7 @@ std::string text_of(std::span<const std::byte> data) {
 /// The fingerprint of the simulation must equal the saved one entry by entry.
 void check_fingerprint(const Fingerprint& saved, const Fingerprint& current, const std::filesystem::path& file) {
   const auto refuse = [&](const std::string& what) {
-    throw io::CheckpointError(fmt::format("{}: the checkpoint was written for another case: {}; restart with the "
+    throw CheckpointError(fmt::format("{}: the checkpoint was written for another case: {}; restart with the "
                                           "resolved case stored in the checkpoint",
                                           file.string(), what));
   };
@@ -263,7 +263,7 @@ void check_fingerprint(const Fingerprint& saved, const Fingerprint& current, con
 /// The private members of Simulation that a checkpoint holds (friend of Simulation).
 struct CheckpointAccess {
   static std::vector<std::byte> encode(const Simulation& sim) {
-    io::RecordWriter out;
+    RecordWriter out;
     out.i64(sim.steps_);
     out.f64(static_cast<double>(sim.steps_) * sim.units_.dt_si());
     out.vec3(sim.frame_.window_origin_si);
@@ -308,7 +308,7 @@ struct CheckpointAccess {
   };
 
   static Saved decode(std::span<const std::byte> data) {
-    io::RecordReader in(data, kSimulationSection);
+    RecordReader in(data, kSimulationSection);
     Saved s;
     s.steps = in.i64();
     s.time_si = in.f64();
@@ -334,7 +334,7 @@ struct CheckpointAccess {
       s.timers.emplace_back(std::move(name), in.f64());
     }
     in.expect_end();
-    if (s.steps < 0) throw io::CheckpointError(fmt::format("checkpoint section '{}': negative step count", kSimulationSection));
+    if (s.steps < 0) throw CheckpointError(fmt::format("checkpoint section '{}': negative step count", kSimulationSection));
     return s;
   }
 
@@ -355,9 +355,9 @@ struct CheckpointAccess {
 
 void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller, const std::filesystem::path& file) {
   const lbm::FluidState fluid = sim.fluid().export_state();
-  io::CheckpointWriter writer;
+  CheckpointWriter writer;
   {
-    io::RecordWriter version;
+    RecordWriter version;
     version.string(version_string);
     writer.add_copy(kVersionSection, version.take());
   }
@@ -376,7 +376,7 @@ void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller,
 SimulationCheckpoint::SimulationCheckpoint(const std::filesystem::path& file) : file_(file) {
   // Every record is decoded once here, so that a malformed one is refused before the caller
   // builds a simulation; restore() decodes them again (they are small).
-  written_by_ = io::RecordReader(file_.section(kVersionSection), kVersionSection).string();
+  written_by_ = RecordReader(file_.section(kVersionSection), kVersionSection).string();
   caller_.resolved_case = text_of(file_.section(kCaseSection));
   caller_.values = decode_values(file_.section(kCallerValuesSection));
   for (const std::string& name : file_.section_names())
@@ -400,7 +400,7 @@ void SimulationCheckpoint::restore(Simulation& sim) const {
   fluid.populations = file_.section(kPopulationsSection);
   if (file_.has(kSolidCellsSection)) fluid.solid_cells = decode_solid_cells(file_.section(kSolidCellsSection));
   if (!(fluid.layout == sim.fluid().export_state().layout))
-    throw io::CheckpointError(fmt::format("{}: the fluid's memory layout differs from this build's (written by "
+    throw CheckpointError(fmt::format("{}: the fluid's memory layout differs from this build's (written by "
                                           "settle {}); restart with the settle that wrote it",
                                           file_.path().string(), written_by_));
   // The solver checks the whole state before it writes anything, so a refusal leaves the
@@ -408,7 +408,7 @@ void SimulationCheckpoint::restore(Simulation& sim) const {
   try {
     sim.fluid().import_state(fluid);
   } catch (const std::invalid_argument& e) {
-    throw io::CheckpointError(fmt::format("{}: {}", file_.path().string(), e.what()));
+    throw CheckpointError(fmt::format("{}: {}", file_.path().string(), e.what()));
   }
   CheckpointAccess::apply(sim, saved, body);
 }

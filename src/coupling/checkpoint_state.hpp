@@ -1,5 +1,5 @@
 #pragma once
-// The whole state of a coupled simulation in a checkpoint file (io/checkpoint.hpp), and its
+// The whole state of a coupled simulation in a checkpoint file (common/checkpoint_file.hpp), and its
 // restoration into a freshly built Simulation, so that a run of N + M steps and a run of N steps,
 // a checkpoint, a restart and M steps end bit for bit alike (same build, same thread count).
 //
@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "coupling/simulation.hpp"
-#include "io/checkpoint.hpp"
+#include "common/checkpoint_file.hpp"
 
 namespace settle::coupling {
 
@@ -43,12 +43,12 @@ struct CheckpointCallerData {
   std::string resolved_case;
   /// Named numbers (exact bits), e.g. an output schedule's next index.
   std::map<std::string, double> values;
-  /// Named opaque records (e.g. accumulators serialised with io::RecordWriter).
+  /// Named opaque records (e.g. accumulators serialised with RecordWriter).
   std::map<std::string, std::vector<std::byte>> blobs;
 };
 
-/// Writes the simulation's state and the caller's data to `file` atomically (io/checkpoint.hpp:
-/// the previous file stays whole until the new one is complete). Throws io::CheckpointError on an
+/// Writes the simulation's state and the caller's data to `file` atomically (common/checkpoint_file.hpp:
+/// the previous file stays whole until the new one is complete). Throws CheckpointError on an
 /// I/O failure.
 void write_checkpoint(const Simulation& simulation, const CheckpointCallerData& caller,
                       const std::filesystem::path& file);
@@ -56,7 +56,7 @@ void write_checkpoint(const Simulation& simulation, const CheckpointCallerData& 
 /// A checkpoint opened and verified (every CRC-32 checked, every record decoded), ready to restore.
 class SimulationCheckpoint {
  public:
-  /// Throws io::CheckpointError naming the file and the fault (missing, truncated, corrupt,
+  /// Throws CheckpointError naming the file and the fault (missing, truncated, corrupt,
   /// other format version, malformed record).
   explicit SimulationCheckpoint(const std::filesystem::path& file);
 
@@ -68,12 +68,12 @@ class SimulationCheckpoint {
   const std::string& written_by() const { return written_by_; }
 
   /// Puts the saved state into `simulation`, which must have been built from the same case (the
-  /// fingerprint is compared first: io::CheckpointError names the first quantity that differs, and
+  /// fingerprint is compared first: CheckpointError names the first quantity that differs, and
   /// the simulation is left unchanged). Can be called on several simulations.
   void restore(Simulation& simulation) const;
 
  private:
-  io::CheckpointFile file_;
+  CheckpointFile file_;
   CheckpointCallerData caller_;
   std::int64_t steps_ = 0;
   double time_si_ = 0.0;

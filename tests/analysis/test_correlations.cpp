@@ -22,7 +22,7 @@
 #include "coupling/simulation.hpp"
 
 namespace settle::analysis {
-namespace {
+namespace test_correlations {
 
 using nlohmann::json;
 using std::numbers::pi;
@@ -364,5 +364,5 @@ TEST(Ranges, LawsAreReportedInTheDocumentedOrder) {
   EXPECT_FALSE(parse_orientation("sideways").has_value());
 }
 
-}  // namespace
+}  // namespace test_correlations
 }  // namespace settle::analysis

@@ -16,7 +16,7 @@
 #include "common/error.hpp"
 #include "synthetic_motion.hpp"
 
-namespace {
+namespace test_observables {
 
 using namespace settle::analysis;
 using settle::test::kDegree;
@@ -373,4 +373,4 @@ TEST(Analysis, JsonHoldsTheContractKeysAndNullsForUndefinedQuantities) {
   EXPECT_EQ(j.begin().key(), "terminal_velocity");
 }
 
-}  // namespace
+}  // namespace test_observables

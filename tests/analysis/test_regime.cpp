@@ -9,7 +9,7 @@
 #include "analysis/regime.hpp"
 #include "synthetic_motion.hpp"
 
-namespace {
+namespace test_regime {
 
 using namespace settle::analysis;
 using settle::test::kDegree;
@@ -247,4 +247,4 @@ TEST(RegimeRules, UnclassifiableWindowKeepsItsReason) {
   EXPECT_EQ(regime_name(Regime::oblique_oscillating), "oblique_oscillating");
 }
 
-}  // namespace
+}  // namespace test_regime

@@ -15,7 +15,7 @@
 
 #include "analysis/terminal_state.hpp"
 
-namespace {
+namespace test_terminal_state {
 
 using namespace settle::analysis;
 constexpr double kPi = std::numbers::pi;
@@ -211,4 +211,4 @@ TEST(ResponseTime, MatchesTheMeasuredApproachOfASettlingSphere) {
   EXPECT_LT(std::abs(std::log(tau_p / measured)), std::abs(std::log(stokes / measured)));
 }
 
-}  // namespace
+}  // namespace test_terminal_state

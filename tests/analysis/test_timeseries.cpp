@@ -15,7 +15,7 @@
 #include "attitude/attitude.hpp"
 #include "common/error.hpp"
 
-namespace {
+namespace test_timeseries {
 
 using settle::InputError;
 using namespace settle::analysis;
@@ -166,4 +166,4 @@ TEST(SettlingSeries, SinceTheReleaseKeepsTheSampleTakenAtIt) {
   EXPECT_EQ(series.since(0.31).size(), 2u);
 }
 
-}  // namespace
+}  // namespace test_timeseries

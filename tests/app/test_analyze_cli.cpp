@@ -15,7 +15,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_analyze_cli {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -188,4 +188,4 @@ TEST_F(AnalyzeCli, BrokenRunDirectoriesAreRefusedNamingTheCulprit) {
   for (const auto& dir : {no_csv, no_uz, bad_json, towed}) fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace test_analyze_cli

@@ -17,7 +17,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_attitude_cli {
 
 namespace fs = std::filesystem;
 
@@ -172,4 +172,4 @@ TEST(AttitudeCli, BadInputExitsWithStatus2NamingTheFlag) {
   fs::remove(csv);
 }
 
-}  // namespace
+}  // namespace test_attitude_cli

@@ -11,7 +11,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_bench_cli {
 
 TEST(BenchCli, EachRoundsFractionIsItsThroughputOverTheMeanOfTheProbesAroundIt) {
   const auto r = settle::test::run_settle(
@@ -56,4 +56,4 @@ TEST(BenchCli, EvenAndOddStepThroughputsAccountForTheRound) {
   EXPECT_LE(round, 2.0 / (1.0 / even + 1.0 / odd) * (1.0 + 1e-12));
 }
 
-}  // namespace
+}  // namespace test_bench_cli

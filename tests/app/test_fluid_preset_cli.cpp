@@ -15,7 +15,7 @@
 #include "io/fluid_presets.hpp"
 #include "io/schema.hpp"
 
-namespace {
+namespace test_fluid_preset_cli {
 
 namespace fs = std::filesystem;
 
@@ -105,4 +105,4 @@ TEST(FluidPresetCli, TemperatureWithoutAPresetExitsTwoNamingTheKey) {
   fs::remove(case_path);
 }
 
-}  // namespace
+}  // namespace test_fluid_preset_cli

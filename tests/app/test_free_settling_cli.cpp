@@ -14,7 +14,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_free_settling_cli {
 
 namespace fs = std::filesystem;
 
@@ -127,4 +127,4 @@ TEST(FreeSettling, OneAndTwoThreadsWriteTheSameTimeSeries) {
   fs::remove_all(two);
 }
 
-}  // namespace
+}  // namespace test_free_settling_cli

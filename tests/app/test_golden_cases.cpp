@@ -22,7 +22,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_golden_cases {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -117,4 +117,4 @@ TEST_P(GoldenCase, FiveStepsReproduceTheStoredNumbers) {
 INSTANTIATE_TEST_SUITE_P(Cases, GoldenCase, ::testing::ValuesIn(shipped_case_names()),
                          [](const ::testing::TestParamInfo<std::string>& case_info) { return case_info.param; });
 
-}  // namespace
+}  // namespace test_golden_cases

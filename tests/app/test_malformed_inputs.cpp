@@ -25,7 +25,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_malformed_inputs {
 
 namespace fs = std::filesystem;
 using settle::test::CliResult;
@@ -481,4 +481,4 @@ TEST_F(MalformedInput, AWatertightMeshRuns) {
   EXPECT_EQ(r.status, 0) << r.err;
 }
 
-}  // namespace
+}  // namespace test_malformed_inputs

@@ -22,7 +22,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_plot_cli {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -256,4 +256,4 @@ TEST(PlotCli, DirectoryWithoutTimeseriesExitsTwoNamingIt) {
   fs::remove_all(empty);
 }
 
-}  // namespace
+}  // namespace test_plot_cli

@@ -14,7 +14,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_predict_cli {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -185,4 +185,4 @@ TEST(PredictCli, HelpDescribesTheFlags) {
   }
 }
 
-}  // namespace
+}  // namespace test_predict_cli

@@ -29,7 +29,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_restart_cli {
 
 namespace fs = std::filesystem;
 
@@ -291,4 +291,4 @@ TEST_F(RestartCli, RefusalsExitTwoAndLeaveTheDirectoryUntouched) {
   fs::remove_all(with_checkpoint);
 }
 
-}  // namespace
+}  // namespace test_restart_cli

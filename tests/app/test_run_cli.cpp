@@ -17,7 +17,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_run_cli {
 
 namespace fs = std::filesystem;
 
@@ -291,10 +291,6 @@ TEST(RunCli, UnderResolvedCaseIsRefusedBeforeRunning) {
   EXPECT_NE(r.err.find("numerics.cells_per_diameter"), std::string::npos) << r.err;
 }
 
-}  // namespace
-
-namespace {
-
 // The number after `label` on the plan's line that starts with `line_key`, e.g. ("units", "dt =").
 double plan_number(const std::string& plan, const std::string& line_key, const std::string& label) {
   const std::size_t line = plan.find("  " + line_key + " ");
@@ -303,8 +299,6 @@ double plan_number(const std::string& plan, const std::string& line_key, const s
   if (at == std::string::npos || at > plan.find('\n', line)) return std::nan("");
   return std::atof(plan.c_str() + at + label.size());
 }
-
-}  // namespace
 
 // `settle run --dry-run` prints the plan the run itself is built on (coupling/case_plan.hpp) and
 // writes nothing: its dt, tau and step count must be the ones a real run of the same case
@@ -333,3 +327,5 @@ TEST(RunCli, DryRunRefusesARestart) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--dry-run"), std::string::npos) << r.err;
 }
+
+}  // namespace test_run_cli

@@ -18,7 +18,7 @@
 #include <ostream>
 #include <nlohmann/json.hpp>
 
-namespace {
+namespace test_shape_cli {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -170,4 +170,4 @@ TEST(ShapeCli, HelpDescribesTheFlags) {
   }
 }
 
-}  // namespace
+}  // namespace test_shape_cli

@@ -21,7 +21,7 @@
 
 #include "cli_support.hpp"
 
-namespace {
+namespace test_shipped_cases {
 
 namespace fs = std::filesystem;
 
@@ -171,4 +171,4 @@ TEST(ShippedGrain, TheCaseScalesTheMeshToHalfAMillimetre) {
   EXPECT_NEAR(shape.at("mass").get<double>(), mass, mass * 3e-8);
 }
 
-}  // namespace
+}  // namespace test_shipped_cases

@@ -18,7 +18,7 @@
 #include "common/error.hpp"
 
 namespace settle::attitude {
-namespace {
+namespace test_body_rate_series {
 
 std::string write_temp_csv(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() /
@@ -122,5 +122,5 @@ TEST(BodyRateSeries, ReconstructionIsSecondOrderInSampleSpacing) {
   EXPECT_LT(order, 2.2);
 }
 
-}  // namespace
+}  // namespace test_body_rate_series
 }  // namespace settle::attitude

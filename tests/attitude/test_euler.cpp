@@ -17,7 +17,7 @@
 #include "attitude/euler.hpp"
 
 namespace settle::attitude {
-namespace {
+namespace test_euler {
 
 constexpr double pi = std::numbers::pi;
 
@@ -403,5 +403,5 @@ TEST(AttitudeSwitchingRule, PreferredChartIsFarFromItsSingularity) {
   }
 }
 
-}  // namespace
+}  // namespace test_euler
 }  // namespace settle::attitude

@@ -16,7 +16,7 @@
 #include "attitude/rotational_dynamics.hpp"
 
 namespace settle::attitude {
-namespace {
+namespace test_integrators {
 
 constexpr double pi = std::numbers::pi;
 
@@ -313,5 +313,5 @@ TEST(RotationalDynamics, RejectsInvalidTensors) {
   EXPECT_THROW(BodyInertia{Eigen::Matrix3d::Zero()}, std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace test_integrators
 }  // namespace settle::attitude

@@ -9,7 +9,7 @@
 #include "body/carlson.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_carlson {
 
 // The published values have 13-14 significant digits: agreement to 1e-13 relative is all
 // they can confirm.
@@ -64,5 +64,5 @@ TEST(Carlson, RefusesInvalidArguments) {
   EXPECT_THROW(complete_elliptic_e(1.5), std::domain_error);
 }
 
-}  // namespace
+}  // namespace test_carlson
 }  // namespace settle::body

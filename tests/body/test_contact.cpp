@@ -25,7 +25,7 @@
 #include "body/superellipsoid.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_contact {
 
 using settle::test::rotation_about;
 
@@ -510,5 +510,5 @@ TEST(WetImpact, ARestingBodyKeepsItsContactAndLeavingEndsIt) {
   EXPECT_FALSE(contact.impact_speeds_si()[0].has_value());
 }
 
-}  // namespace
+}  // namespace test_contact
 }  // namespace settle::body

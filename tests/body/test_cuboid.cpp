@@ -13,7 +13,7 @@
 #include "shape_test_support.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_cuboid {
 
 using std::numbers::pi;
 
@@ -133,5 +133,5 @@ TEST(Cuboid, RefusesBadSize) {
   EXPECT_THROW(Cuboid(Eigen::Vector3d(1.0, 0.0, 1.0)), settle::InputError);
 }
 
-}  // namespace
+}  // namespace test_cuboid
 }  // namespace settle::body

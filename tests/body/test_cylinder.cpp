@@ -14,7 +14,7 @@
 #include "shape_test_support.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_cylinder {
 
 using std::numbers::pi;
 
@@ -207,5 +207,5 @@ TEST(Cylinder, RefusesBadParameters) {
   EXPECT_THROW(Cylinder(1.0, std::numeric_limits<double>::infinity()), settle::InputError);
 }
 
-}  // namespace
+}  // namespace test_cylinder
 }  // namespace settle::body

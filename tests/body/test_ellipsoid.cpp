@@ -12,7 +12,7 @@
 #include "shape_test_support.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_ellipsoid {
 
 using std::numbers::pi;
 using testing::measure_markers;
@@ -303,5 +303,5 @@ TEST(Ellipsoid, RefusesBadSemiAxes) {
   EXPECT_THROW(Ellipsoid::sphere(1.0).surface_markers(10.0), settle::InputError);
 }
 
-}  // namespace
+}  // namespace test_ellipsoid
 }  // namespace settle::body

@@ -16,7 +16,7 @@
 #include "common/error.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_fuzz_regressions {
 
 std::filesystem::path fuzz_input(const std::string& name) {
   return std::filesystem::path(SETTLE_SOURCE_DIR) / "tests/fuzz/corpus_stl" / name;
@@ -107,5 +107,5 @@ TEST(FuzzRegression, NeedleSuperellipsoidIsBuiltWithExactVolumeAndNearSurfaceDis
   }
 }
 
-}  // namespace
+}  // namespace test_fuzz_regressions
 }  // namespace settle::body

@@ -6,7 +6,7 @@
 #include "body/mass_properties.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_mass_properties {
 
 TEST(MassProperties, InertiaFromSecondMomentOfUnitCube) {
   // Unit cube about its centre: S = diag(1/12) per unit volume, I = rho (tr S - S) = rho/6.
@@ -57,5 +57,5 @@ TEST(MassProperties, MassPropertiesScaleWithDensity) {
   EXPECT_TRUE(p.rotation_body_from_principal().toRotationMatrix().isApprox(p.principal.axes, 1e-15));
 }
 
-}  // namespace
+}  // namespace test_mass_properties
 }  // namespace settle::body

@@ -14,7 +14,7 @@
 #include "shape_test_support.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_mesh_shape {
 
 using std::numbers::pi;
 using testing::box_mesh;
@@ -281,5 +281,5 @@ TEST(MeshShape, MarkersMeetRequirements) {
   }
 }
 
-}  // namespace
+}  // namespace test_mesh_shape
 }  // namespace settle::body

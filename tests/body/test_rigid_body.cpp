@@ -16,7 +16,7 @@
 #include "body/rigid_body.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_rigid_body {
 
 using attitude::Attitude;
 
@@ -461,5 +461,5 @@ TEST(RigidBodyVirtualInertia, OneStepTakesTheVirtualTermsAsWritten) {
   EXPECT_LT((body.state().angular_velocity_b_si - Eigen::Vector3d(0.0, 0.0, dt * alpha)).norm(), 1e-15);
 }
 
-}  // namespace
+}  // namespace test_rigid_body
 }  // namespace settle::body

@@ -11,7 +11,7 @@
 #include "common/error.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_shape_factors {
 
 using std::numbers::pi;
 
@@ -49,5 +49,5 @@ TEST(ShapeFactors, RefusesZeroFlowDirection) {
   EXPECT_THROW(compute_shape_factors(Ellipsoid::sphere(1.0), Eigen::Vector3d::Zero()), settle::InputError);
 }
 
-}  // namespace
+}  // namespace test_shape_factors
 }  // namespace settle::body

@@ -9,7 +9,7 @@
 #include "common/error.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_shape_factory {
 
 using std::numbers::pi;
 
@@ -143,5 +143,5 @@ TEST(ShapeFactory, UnusedKeysCanBeAllowed) {
   EXPECT_EQ(make_shape(spec, lenient)->kind(), "sphere");
 }
 
-}  // namespace
+}  // namespace test_shape_factory
 }  // namespace settle::body

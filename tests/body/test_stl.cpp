@@ -15,7 +15,7 @@
 #include "shape_test_support.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_stl {
 
 std::filesystem::path data(const std::string& name) { return std::filesystem::path(SETTLE_SOURCE_DIR) / "tests/data" / name; }
 
@@ -173,5 +173,5 @@ TEST(Stl, MutatedFilesNeverCrash) {
   }
 }
 
-}  // namespace
+}  // namespace test_stl
 }  // namespace settle::body

@@ -16,7 +16,7 @@
 #include "shape_test_support.hpp"
 
 namespace settle::body {
-namespace {
+namespace test_superellipsoid {
 
 using std::numbers::pi;
 
@@ -237,5 +237,5 @@ TEST(Superellipsoid, RefusesExponentsOutsideTheConvexRange) {
   EXPECT_THROW(Superellipsoid(Eigen::Vector3d(1.0, 0.0, 1.0), 1.0, 1.0), settle::InputError);
 }
 
-}  // namespace
+}  // namespace test_superellipsoid
 }  // namespace settle::body

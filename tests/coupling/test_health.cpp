@@ -20,7 +20,7 @@
 #include "coupling/runner.hpp"
 #include "periodic_sphere.hpp"
 
-namespace {
+namespace test_health {
 
 using namespace settle::coupling;
 using namespace settle::coupling::testing;
@@ -293,4 +293,4 @@ TEST(Runner, StartStepMustMatchTheSimulation) {
   EXPECT_THROW(run(sim, RunCallbacks{}, start), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace test_health

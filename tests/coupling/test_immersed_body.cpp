@@ -17,7 +17,7 @@
 #include "ibm/forcing.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_immersed_body {
 
 using namespace settle;
 using namespace settle::coupling;
@@ -251,4 +251,4 @@ TEST(Determinism, FreeBodyIsTheSameWithOneAndTwoThreads) {
   EXPECT_EQ(one.second, two.second);
 }
 
-}  // namespace
+}  // namespace test_immersed_body

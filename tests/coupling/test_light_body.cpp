@@ -33,7 +33,7 @@
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
 
-namespace {
+namespace test_light_body {
 
 using namespace settle;
 using namespace settle::coupling;
@@ -221,4 +221,4 @@ TEST(CouplingLightBody, SphereReleasedFromRestTakesTheAddedMassAccelerationAndSt
   EXPECT_LT(speed / t, added_mass_acceleration);
 }
 
-}  // namespace
+}  // namespace test_light_body

@@ -13,7 +13,7 @@
 
 #include "periodic_sphere.hpp"
 
-namespace {
+namespace test_periodic_sphere {
 
 using namespace settle::coupling::testing;
 
@@ -45,9 +45,9 @@ TEST(PeriodicSphereArray, DensePhi0268At16CellsPerDiameter) { check(20); }
 TEST(PeriodicSphereArray, InteriorMarkersDilutePhi0065At16CellsPerDiameter) { check(32, true); }
 TEST(PeriodicSphereArray, InteriorMarkersDensePhi0268At16CellsPerDiameter) { check(20, true); }
 
-}  // namespace
+}  // namespace test_periodic_sphere
 
-namespace {
+namespace test_periodic_sphere {
 
 double momentum_exchange_k_error(int box_cells, settle::lbm::WallRule rule) {
   PeriodicSphereOptions o;
@@ -78,4 +78,4 @@ TEST(PeriodicSphereArray, MomentumExchangeDensePhi0268At16CellsPerDiameter) {
   EXPECT_NEAR(momentum_exchange_k_error(20, settle::lbm::WallRule::bouzidi), 0.0, 0.02);
 }
 
-}  // namespace
+}  // namespace test_periodic_sphere

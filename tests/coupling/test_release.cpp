@@ -11,7 +11,7 @@
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
 
-namespace {
+namespace test_release {
 
 using namespace settle;
 using namespace settle::coupling;
@@ -86,4 +86,4 @@ TEST(Release, WithoutAReleaseTimeAFreeBodyIsNeverHeld) {
   EXPECT_FALSE(sim.held());
 }
 
-}  // namespace
+}  // namespace test_release

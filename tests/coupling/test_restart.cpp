@@ -26,7 +26,7 @@
 #include "coupling/simulation.hpp"
 
 namespace settle::coupling {
-namespace {
+namespace test_restart {
 
 namespace fs = std::filesystem;
 
@@ -337,7 +337,7 @@ TEST_F(RestartTest, CheckpointOfAnotherCaseIsRefusedAndChangesNothing) {
   try {
     checkpoint.restore(other);
     FAIL() << "restored into a taller grid";
-  } catch (const io::CheckpointError& e) {
+  } catch (const CheckpointError& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find("grid cells along z is 40 in the checkpoint and 44"), std::string::npos) << message;
   }
@@ -352,7 +352,7 @@ TEST_F(RestartTest, CheckpointOfAnotherCaseIsRefusedAndChangesNothing) {
   try {
     checkpoint.restore(heavier);
     FAIL() << "restored a particle of another density";
-  } catch (const io::CheckpointError& e) {
+  } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("particle mass"), std::string::npos) << e.what();
   }
 }
@@ -375,7 +375,7 @@ TEST_F(RestartTest, CorruptOrTruncatedCheckpointIsRefused) {
   try {
     SimulationCheckpoint checkpoint(file);
     FAIL() << "accepted a corrupt checkpoint";
-  } catch (const io::CheckpointError& e) {
+  } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("section 'fluid/populations' fails its CRC-32 check"), std::string::npos)
         << e.what();
   }
@@ -383,10 +383,10 @@ TEST_F(RestartTest, CorruptOrTruncatedCheckpointIsRefused) {
   try {
     SimulationCheckpoint checkpoint(file);
     FAIL() << "accepted a truncated checkpoint";
-  } catch (const io::CheckpointError& e) {
+  } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
   }
 }
 
-}  // namespace
+}  // namespace test_restart
 }  // namespace settle::coupling

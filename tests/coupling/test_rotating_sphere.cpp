@@ -26,7 +26,7 @@
 
 #include "periodic_sphere.hpp"
 
-namespace {
+namespace test_rotating_sphere {
 
 using namespace settle::coupling::testing;
 
@@ -53,4 +53,4 @@ TEST(RotatingSphere, StokesTorqueAt16CellsPerDiameter) {
   EXPECT_NEAR(e.ratio_infinite, 1.0, 0.03);
 }
 
-}  // namespace
+}  // namespace test_rotating_sphere

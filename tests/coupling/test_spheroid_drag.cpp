@@ -11,7 +11,7 @@
 
 #include "periodic_spheroid.hpp"
 
-namespace {
+namespace test_spheroid_drag {
 
 using namespace settle::coupling::testing;
 
@@ -62,4 +62,4 @@ void check(double gamma, DragDirection direction) {
 
 TEST(SpheroidStokesDrag, ProlateBroadsideAt10CellsPerDiameter) { check(2.0, DragDirection::transverse); }
 
-}  // namespace
+}  // namespace test_spheroid_drag

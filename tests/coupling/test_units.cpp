@@ -9,7 +9,7 @@
 #include "common/error.hpp"
 #include "coupling/units.hpp"
 
-namespace {
+namespace test_units {
 
 using namespace settle::coupling;
 
@@ -126,4 +126,4 @@ TEST(SpeedEstimates, GalileoNumberOfAKnownCase) {
   EXPECT_NEAR(galileo_number(2e-3, 1200.0, 1000.0, 1e-6, 9.81), std::sqrt(0.2 * 9.81 * 8e-9) / 1e-6, 1e-9);
 }
 
-}  // namespace
+}  // namespace test_units

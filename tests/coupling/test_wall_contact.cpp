@@ -21,7 +21,7 @@
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
 
-namespace {
+namespace test_wall_contact {
 
 using namespace settle;
 using namespace settle::coupling;
@@ -242,4 +242,4 @@ TEST(WallContact, RefusesParametersAndStartsThatCannotWork) {
   EXPECT_NO_THROW(Simulation{resting});
 }
 
-}  // namespace
+}  // namespace test_wall_contact

@@ -8,7 +8,7 @@
 #include "ibm/delta.hpp"
 
 namespace settle::ibm {
-namespace {
+namespace test_delta {
 
 constexpr DeltaKernel kKernels[] = {DeltaKernel::Roma3, DeltaKernel::Peskin4};
 
@@ -73,5 +73,5 @@ TEST(DeltaKernel, NamesRoundTripAndBadNamesNameTheKey) {
   }
 }
 
-}  // namespace
+}  // namespace test_delta
 }  // namespace settle::ibm

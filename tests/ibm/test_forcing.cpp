@@ -13,7 +13,7 @@
 #include "ibm/volume_fraction.hpp"
 
 namespace settle::ibm {
-namespace {
+namespace test_forcing {
 
 using Eigen::Vector3d;
 
@@ -124,5 +124,5 @@ TEST(VolumeFraction, ExactForAPlaneParallelToAFace) {
   EXPECT_DOUBLE_EQ(cell_volume_fraction(phi), 0.0);
 }
 
-}  // namespace
+}  // namespace test_forcing
 }  // namespace settle::ibm

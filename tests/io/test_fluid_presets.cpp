@@ -18,7 +18,7 @@
 #include "io/fluid_presets.hpp"
 
 namespace settle::io {
-namespace {
+namespace test_fluid_presets {
 
 namespace fs = std::filesystem;
 
@@ -314,5 +314,5 @@ TEST(FluidPresetCase, MisplacedMissingAndOutOfRangeKeysAreRefusedByName) {
   EXPECT_TRUE(contains(honey, "must be one of \"none\", \"water\", \"glycerol-water\"")) << honey;
 }
 
-}  // namespace
+}  // namespace test_fluid_presets
 }  // namespace settle::io

@@ -13,7 +13,7 @@
 #include "io/schema.hpp"
 
 namespace settle::io {
-namespace {
+namespace test_fuzz_regressions {
 
 std::string fuzz_input(const std::string& name) {
   std::ifstream in(std::string(SETTLE_SOURCE_DIR) + "/tests/fuzz/corpus_case/" + name, std::ios::binary);
@@ -58,5 +58,5 @@ TEST(FuzzRegression, EveryControlCharacterSurvivesTheResolvedCase) {
   expect_resolved_case_reads_back(values);
 }
 
-}  // namespace
+}  // namespace test_fuzz_regressions
 }  // namespace settle::io

@@ -26,7 +26,7 @@
 #include "lbm/solver.hpp"
 
 namespace settle::io {
-namespace {
+namespace test_preflight {
 
 namespace fs = std::filesystem;
 
@@ -368,5 +368,5 @@ TEST(OutputDirectory, CreatableOrWritableDirectoriesPassAndNothingIsCreated) {
   fs::remove_all(root);
 }
 
-}  // namespace
+}  // namespace test_preflight
 }  // namespace settle::io

@@ -12,7 +12,7 @@
 #include "io/schema.hpp"
 
 namespace settle::io {
-namespace {
+namespace test_schema {
 
 Schema test_schema() {
   std::vector<KeySpec> keys;
@@ -171,14 +171,14 @@ TEST(Schema, MarkdownTableListsEveryKey) {
   for (const KeySpec& k : schema.keys()) EXPECT_TRUE(contains(md, k.doc)) << k.path;
 }
 
-}  // namespace
+}  // namespace test_schema
 }  // namespace settle::io
 
 #include "io/case_schema.hpp"
 #include "lbm/config.hpp"
 
 namespace settle::io {
-namespace {
+namespace test_schema {
 
 TEST(CaseSchema, EveryDefaultSatisfiesItsOwnDeclarationAndTheDesignKeysExist) {
   // The Schema constructor rejects a default outside its range; building it is the check.
@@ -271,5 +271,5 @@ TEST(CaseSchema, MarkerRetractionDefaultsToTheCalibrationOfTheMarkerLayout) {
   EXPECT_EQ(retraction("marker_retraction = 0.0\n"), 0.0);
 }
 
-}  // namespace
+}  // namespace test_schema
 }  // namespace settle::io

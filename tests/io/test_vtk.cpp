@@ -29,7 +29,7 @@
 #include "lbm/solver.hpp"
 
 namespace settle::io {
-namespace {
+namespace test_vtk {
 
 namespace fs = std::filesystem;
 using std::numbers::pi;
@@ -687,5 +687,5 @@ TEST(VtkPvd, UnwritableCollectionNamesItsPath) {
   }
 }
 
-}  // namespace
+}  // namespace test_vtk
 }  // namespace settle::io

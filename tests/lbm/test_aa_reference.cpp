@@ -18,7 +18,7 @@
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_aa_reference {
 
 using namespace settle::lbm;
 
@@ -563,4 +563,4 @@ TEST(LbmAaReference, FloatStorageFollowsDoubleReference) {
   EXPECT_LT(compare(cfg, kSteps, 9), 1e-8);
 }
 
-}  // namespace
+}  // namespace test_aa_reference

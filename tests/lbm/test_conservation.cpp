@@ -11,7 +11,7 @@
 #include "lbm/solver.hpp"
 #include "steady.hpp"
 
-namespace {
+namespace test_conservation {
 
 using namespace settle::lbm;
 using settle::lbm::testing::run_to_steady_state;
@@ -191,4 +191,4 @@ TEST(LbmFreeSlip, DuctWithFreeSlipSidesCarriesTheExactParabolaInEveryCell) {
   EXPECT_LT(worst / peak, 1e-11);
 }
 
-}  // namespace
+}  // namespace test_conservation

@@ -13,7 +13,7 @@
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_curved_walls {
 
 using namespace settle::lbm;
 
@@ -165,4 +165,4 @@ TEST(LbmCurvedWalls, HalfwayBounceBackOnTheSameFlowIsFirstOrderAndLessAccurate) 
   EXPECT_LT(std::log2(medium.velocity_error / fine.velocity_error), 1.6);
 }
 
-}  // namespace
+}  // namespace test_curved_walls

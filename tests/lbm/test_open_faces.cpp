@@ -12,7 +12,7 @@
 #include "common/error.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_open_faces {
 
 using namespace settle::lbm;
 
@@ -87,4 +87,4 @@ TEST(LbmOpenFaces, RefusedOnPeriodicAxesAndTwiceOnOneFace) {
   EXPECT_THROW(parse_face("z", "domain.inflow"), settle::InputError);
 }
 
-}  // namespace
+}  // namespace test_open_faces

@@ -12,7 +12,7 @@
 #include "lbm/solver.hpp"
 #include "steady.hpp"
 
-namespace {
+namespace test_poiseuille {
 
 using namespace settle::lbm;
 using settle::lbm::testing::run_to_steady_state;
@@ -131,4 +131,4 @@ TEST(LbmPoiseuille, FloatStorageMatchesDouble) {
               std::sqrt(diff2 / ref2));
 }
 
-}  // namespace
+}  // namespace test_poiseuille

@@ -15,7 +15,7 @@
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_stability {
 
 using namespace settle::lbm;
 
@@ -127,4 +127,4 @@ TEST(LbmStability, RecursiveRegularizedStillDecaysAtTheRightRateAtTheSameTau) {
   EXPECT_NEAR(rate / exact, 1.0, 0.01);
 }
 
-}  // namespace
+}  // namespace test_stability

@@ -14,7 +14,7 @@
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_taylor_green {
 
 using namespace settle::lbm;
 
@@ -109,4 +109,4 @@ TEST(LbmTaylorGreen, EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed)
   }
 }
 
-}  // namespace
+}  // namespace test_taylor_green

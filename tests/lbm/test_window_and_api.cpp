@@ -13,7 +13,7 @@
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
 
-namespace {
+namespace test_window_and_api {
 
 using namespace settle::lbm;
 
@@ -294,4 +294,4 @@ TEST(LbmCollision, RegularizedD3Q19RelaxesTheModelledMomentsAsDesigned) {
   EXPECT_NEAR(trace, rho * u.squaredNorm() + drho, 1e-15);
 }
 
-}  // namespace
+}  // namespace test_window_and_api

@@ -34,7 +34,7 @@
 
 #include "common/error.hpp"
 
-namespace settle::io {
+namespace settle {
 
 static_assert(std::endian::native == std::endian::little,
               "checkpoints store integers and floating-point values in little-endian byte order");
@@ -166,4 +166,4 @@ class RecordReader {
   std::string section_;
 };
 
-}  // namespace settle::io
+}  // namespace settle

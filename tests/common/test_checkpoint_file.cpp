@@ -1,4 +1,4 @@
-// The checkpoint file format (io/checkpoint.hpp): CRC-32 against its published check values and
+// The checkpoint file format (common/checkpoint_file.hpp): CRC-32 against its published check values and
 // an independent bitwise implementation, exact round trip of sections, atomic replacement, and
 // refusal of every truncation and every single-bit corruption of a file.
 #include <gtest/gtest.h>
@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "io/checkpoint.hpp"
+#include "common/checkpoint_file.hpp"
 
-namespace settle::io {
-namespace {
+namespace settle {
+namespace test_checkpoint_file {
 
 namespace fs = std::filesystem;
 
@@ -285,5 +285,5 @@ TEST(CheckpointRecords, RoundTripIsBitExactAndBoundsAreChecked) {
   EXPECT_THROW(long_reader.expect_end(), CheckpointError);
 }
 
-}  // namespace
-}  // namespace settle::io
+}  // namespace test_checkpoint_file
+}  // namespace settle

@@ -1,4 +1,4 @@
-#include "io/checkpoint.hpp"
+#include "common/checkpoint_file.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -17,7 +17,7 @@
 
 #include "common/atomic_file.hpp"
 
-namespace settle::io {
+namespace settle {
 namespace {
 
 constexpr std::array<char, 8> kMagic{'S', 'E', 'T', 'T', 'L', 'E', 'C', 'K'};
@@ -316,4 +316,4 @@ void RecordReader::expect_end() const {
                                       offset_));
 }
 
-}  // namespace settle::io
+}  // namespace settle
