@@ -12,14 +12,22 @@ bash scripts/install-deps.sh
 cmake --preset debug >/dev/null
 cmake --build --preset debug
 
-# The code under test must carry the instrumentation (a flag lost from the library's targets would
-# otherwise make this stage pass without checking anything).
-undefined_symbols=$(nm --undefined-only build/debug/src/libsettle.a 2>/dev/null)
-for sym in __asan_report_load8 __ubsan_handle_; do
-  if ! grep -q " U ${sym}" <<<"$undefined_symbols"; then
-    echo "run_sanitizer_tests: build/debug/src/libsettle.a has no calls to ${sym}*: not instrumented" >&2
-    exit 1
-  fi
+# The code under test must carry the instrumentation (a flag lost from a module's target would
+# otherwise make this stage pass without checking that module): every module library calls both
+# runtimes.
+modules=(build/debug/src/libsettle_*.a)
+if [[ ! -e ${modules[0]} ]]; then
+  echo "run_sanitizer_tests: no module libraries build/debug/src/libsettle_*.a" >&2
+  exit 1
+fi
+for library in "${modules[@]}"; do
+  undefined_symbols=$(nm --undefined-only "$library" 2>/dev/null)
+  for sym in __asan_report_load8 __ubsan_handle_; do
+    if ! grep -q " U ${sym}" <<<"$undefined_symbols"; then
+      echo "run_sanitizer_tests: $library has no calls to ${sym}*: not instrumented" >&2
+      exit 1
+    fi
+  done
 done
 
 # A renamed heavy test would silently lose its label and make this stage too slow for CI.

@@ -116,6 +116,7 @@ std::string motion_name(body::MotionKind kind) {
 // case (the schema has no [derived] keys), and a reader sees what the run used.
 std::string derived_block(const coupling::Simulation& sim) {
   const auto& d = sim.derived();
+  const auto& p = sim.plan();
   return fmt::format(
       "\n# [derived] chosen by settle run (not read back):\n"
       "# dx = {:.9g}  # m, d_eq / cells_per_diameter\n"
@@ -129,24 +130,25 @@ std::string derived_block(const coupling::Simulation& sim) {
       "# galileo = {:.6g}\n"
       "# markers = {}\n"
       "# marker_retraction = {:.9g}  # cells\n",
-      d.dx_si, d.dt_si, d.tau, d.cells[0], d.cells[1], d.cells[2], d.equivalent_diameter_si, d.expected_speed_si,
-      d.mach, d.reynolds, d.galileo, d.marker_count, sim.setup().marker_retraction_cells);
+      p.units.dx_si(), p.units.dt_si(), p.units.tau(), d.cells[0], d.cells[1], d.cells[2], p.equivalent_diameter_si,
+      p.expected_speed_si, p.mach, p.reynolds, p.galileo, d.marker_count, sim.setup().marker_retraction_cells);
 }
 
 // What the run itself reports: the case, the converter's numbers, the loop's figures and timing.
 nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResult& result,
                         const std::vector<std::string>& warnings) {
   const auto& d = sim.derived();
+  const auto& p = sim.plan();
   nlohmann::json j;
   j["case"] = sim.setup().name;
   j["motion"] = motion_name(sim.body().motion_kind());
   j["cells"] = d.cells[0] * static_cast<long long>(d.cells[1]) * d.cells[2];
   j["grid"] = {d.cells[0], d.cells[1], d.cells[2]};
-  j["dx"] = d.dx_si;
-  j["dt"] = d.dt_si;
-  j["tau"] = d.tau;
-  j["mach"] = d.mach;
-  j["equivalent_diameter"] = d.equivalent_diameter_si;
+  j["dx"] = p.units.dx_si();
+  j["dt"] = p.units.dt_si();
+  j["tau"] = p.units.tau();
+  j["mach"] = p.mach;
+  j["equivalent_diameter"] = p.equivalent_diameter_si;
   j["markers"] = d.marker_count;
   j["steps"] = result.steps;
   j["simulated_time"] = result.simulated_time_si;
@@ -187,7 +189,7 @@ void add_lift_spectrum(nlohmann::json& j, const coupling::Simulation& sim, const
   const analysis::SpectralPeak peak = analysis::spectral_peak(t_si, lift);
   j["lift_frequency"] = peak.found ? nlohmann::json(peak.frequency_hz) : nlohmann::json(nullptr);
   j["lift_strouhal"] =
-      peak.found ? nlohmann::json(peak.frequency_hz * sim.derived().equivalent_diameter_si / speed) : nlohmann::json(nullptr);
+      peak.found ? nlohmann::json(peak.frequency_hz * sim.plan().equivalent_diameter_si / speed) : nlohmann::json(nullptr);
   j["lift_spectral_concentration"] = peak.found ? nlohmann::json(peak.concentration) : nlohmann::json(nullptr);
 }
 
@@ -378,9 +380,11 @@ void run_case(const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
   else if (restart) omp_set_num_threads(restart->threads());  // as the run had: bit for bit
   const auto& d = sim.derived();
+  const auto& p = sim.plan();
   console.info(fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
                            "grid {}x{}x{}, {} {}, {} threads",
-                           name, d.dx_si, d.dt_si, d.tau, d.mach, d.reynolds, d.galileo, d.cells[0], d.cells[1],
+                           name, p.units.dx_si(), p.units.dt_si(), p.units.tau(), p.mach, p.reynolds, p.galileo,
+                           d.cells[0], d.cells[1],
                            d.cells[2], d.marker_count,
                            sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)",
                            omp_get_max_threads()));

@@ -18,6 +18,12 @@ CouplingKind parse_coupling(const std::string& name, const std::string& what) {
   throw InputError(fmt::format("{}: must be immersed_boundary or momentum_exchange, got '{}'", what, name));
 }
 
+CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, double dx_si,
+                     const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) {
+  if (options.kind == CouplingKind::momentum_exchange) return momentum_exchange_box(shape, dx_si, centre, body_to_inertial);
+  return immersed_boundary_box(shape, dx_si, options.kernel, centre, body_to_inertial);
+}
+
 std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> shape, double dx_si,
                                             const CouplingOptions& options) {
   if (options.kind == CouplingKind::momentum_exchange)

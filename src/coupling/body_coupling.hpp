@@ -92,6 +92,11 @@ struct CouplingOptions {
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
 };
 
+/// The box of cells the coupling `options` chooses works on for a body at `centre` (lattice units)
+/// with this attitude: what its box_at returns, without building it.
+CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, double dx_si,
+                     const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial);
+
 std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> shape, double dx_si,
                                             const CouplingOptions& options);
 

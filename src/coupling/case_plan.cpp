@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "common/error.hpp"
+#include "coupling/immersed_body.hpp"
 #include "coupling/time_control.hpp"
 
 namespace settle::coupling {
@@ -98,6 +99,87 @@ CasePlan plan_case(const SimulationSetup& s) {
   if (s.motion == body::MotionKind::free && s.release_time_si > 0.0)
     plan.release_step = static_cast<std::int64_t>(std::ceil(s.release_time_si / units.dt_si() * (1.0 - 1e-12)));
   return plan;
+}
+
+CouplingOptions coupling_options(const SimulationSetup& setup) {
+  CouplingOptions options;
+  options.kind = setup.coupling;
+  options.kernel = setup.kernel;
+  options.forcing_iterations = setup.forcing_iterations;
+  options.marker_retraction_cells = setup.marker_retraction_cells;
+  options.interior_markers = setup.interior_markers;
+  options.wall_rule = setup.wall_rule;
+  return options;
+}
+
+void check_body_box_in_grid(const SimulationSetup& setup, double dx_si, const std::array<int, 3>& cells) {
+  static constexpr const char* kAxis = "xyz";
+  const LatticeFrame start_frame{Eigen::Vector3d::Zero(), dx_si};
+  const CellBox box = coupling_box(coupling_options(setup), *setup.shape, dx_si,
+                                   start_frame.to_lattice(setup.initial.position_si),
+                                   setup.initial.attitude.body_to_inertial());
+  const char* what = setup.coupling == CouplingKind::momentum_exchange ? "the momentum exchange's boundary links"
+                                                                       : "the immersed-boundary forcing stencil";
+  for (std::size_t i = 0; i < 3; ++i) {
+    const int first = box.origin[i], last = box.origin[i] + box.extent[i] - 1, n = cells[i];
+    if (setup.boundaries[i] == lbm::Boundary::periodic) {
+      if (box.extent[i] > n)
+        throw InputError(fmt::format("domain.size: along {} the periodic domain is {} cells, but the particle and {} "
+                                     "span {} cells; enlarge domain.size along {}",
+                                     kAxis[i], n, what, box.extent[i], kAxis[i]));
+      continue;
+    }
+    // Cells past the wall planes at lattice -1/2 and n - 1/2: moving the body by as many whole
+    // cells clears them.
+    const int beyond = first < 0 ? -first : last - (n - 1);
+    if (beyond <= 0) continue;
+    throw InputError(fmt::format(
+        "particle.position: at its initial attitude the particle and {} reach {} cell{} ({:.4g} m) past the wall at "
+        "{} = {:.4g} m; move particle.position at least {:.4g} m further in, or enlarge domain.size",
+        what, beyond, beyond == 1 ? "" : "s", beyond * dx_si, kAxis[i], first < 0 ? 0.0 : n * dx_si, beyond * dx_si));
+  }
+}
+
+std::optional<body::WallContact> start_wall_contact(const SimulationSetup& setup, double dx_si, double dt_si,
+                                                    const std::array<int, 3>& cells,
+                                                    const Eigen::Vector3d& window_origin_si) {
+  if (!setup.wall_contact || setup.follow_particle || setup.motion != body::MotionKind::free) return std::nullopt;
+  // Half-way walls: the faces of the grid, at 0 and cells x dx from the window's corner.
+  std::vector<body::WallPlane> walls;
+  const auto open = [&](int axis, int side) {
+    const lbm::Face face{axis, side};
+    return (setup.inflow && *setup.inflow == face) || (setup.outflow && *setup.outflow == face);
+  };
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    if (setup.boundaries[i] == lbm::Boundary::periodic) continue;
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
+    if (!open(a, 0)) walls.push_back({axis, window_origin_si[a]});
+    if (!open(a, 1)) walls.push_back({-axis, -(window_origin_si[a] + cells[i] * dx_si)});
+  }
+  if (walls.empty()) return std::nullopt;
+  body::ContactParameters parameters;
+  parameters.restitution = setup.contact_restitution;
+  parameters.wet_stokes_scale = setup.contact_wet_stokes_scale;
+  parameters.fluid_dynamic_viscosity_si = setup.dynamic_viscosity_si;
+  parameters.collision_time_si = setup.contact_collision_steps * dt_si;
+  parameters.contact_distance_si = contact_distance_cells(setup) * dx_si;
+  std::optional<body::WallContact> contact(std::in_place, setup.shape, std::move(walls), parameters);
+
+  // Resting on the wall at zeta - W/k is allowed; k from the whole mass, as the model uses it.
+  const double mass_si = setup.shape->mass_properties(setup.particle_density_si).mass;
+  const double net_weight_si =
+      std::abs((setup.particle_density_si - setup.fluid_density_si) * setup.shape->volume()) * setup.gravity_si.norm();
+  const double compression_si = net_weight_si / body::spring_dashpot(mass_si, mass_si, parameters).stiffness;
+  const double gap_si = contact->min_gap_si(setup.initial);
+  if (gap_si < parameters.contact_distance_si - 2.0 * compression_si)
+    throw InputError(fmt::format("particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
+                                 "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring "
+                                 "would throw it off. Move it at least {:.4g} m from the walls, lower "
+                                 "contact.distance_cells, or set contact.enabled = false",
+                                 gap_si, gap_si / dx_si, contact_distance_cells(setup),
+                                 parameters.contact_distance_si - compression_si));
+  return contact;
 }
 
 }  // namespace settle::coupling

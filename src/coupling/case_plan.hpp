@@ -5,6 +5,11 @@
 // `settle run --dry-run` prints it; no other code computes these numbers.
 #include <array>
 #include <cstdint>
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "body/contact.hpp"
 
 #include "coupling/setup.hpp"
 #include "coupling/units.hpp"
@@ -38,5 +43,24 @@ struct CasePlan {
 /// body, forcing iterations, the contact parameters, the converter's bounds) and plans it.
 /// Allocates nothing proportional to the grid.
 CasePlan plan_case(const SimulationSetup& setup);
+
+/// The coupling's options as the case's keys set them.
+CouplingOptions coupling_options(const SimulationSetup& setup);
+
+/// Refuses (settle::InputError naming the key) a body whose coupling box (coupling_box) at its
+/// initial pose leaves a grid of `cells` with spacing dx_si: along a walled axis every cell of the
+/// box must be in the grid (particle.position), along a periodic one it may span no more cells than
+/// the grid (domain.size). The Simulation's constructor and the preflight both apply this one rule.
+void check_body_box_in_grid(const SimulationSetup& setup, double dx_si, const std::array<int, 3>& cells);
+
+/// The particle-wall contact model of a free body (none for a towed or fixed one, with the window
+/// following the body, with contact off, or without a wall): its walls are the faces of the grid
+/// (`cells` at dx_si, corner at window_origin_si) that are neither periodic nor open. Refuses
+/// (settle::InputError, particle.position) a body that starts deeper in the contact spring than
+/// twice its static compression, which the stored energy would throw off the wall. The Simulation's
+/// constructor and the preflight both build it here.
+std::optional<body::WallContact> start_wall_contact(const SimulationSetup& setup, double dx_si, double dt_si,
+                                                    const std::array<int, 3>& cells,
+                                                    const Eigen::Vector3d& window_origin_si);
 
 }  // namespace settle::coupling

@@ -265,7 +265,7 @@ struct CheckpointAccess {
   static std::vector<std::byte> encode(const Simulation& sim) {
     RecordWriter out;
     out.i64(sim.steps_);
-    out.f64(static_cast<double>(sim.steps_) * sim.units_.dt_si());
+    out.f64(static_cast<double>(sim.steps_) * sim.plan_.units.dt_si());
     out.vec3(sim.frame_.window_origin_si);
     out.f64(sim.frame_.dx_si);
     out.vec3(sim.window_anchor_);

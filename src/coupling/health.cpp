@@ -34,7 +34,7 @@ struct Place {
 Place place_of(const Simulation& sim, const std::array<int, 3>& cell) {
   const Eigen::Vector3d from_centre_si =
       sim.frame().to_si(Eigen::Vector3d(cell[0], cell[1], cell[2])) - sim.body().state().position_si;
-  Place p{cell, from_centre_si / sim.derived().equivalent_diameter_si,
+  Place p{cell, from_centre_si / sim.plan().equivalent_diameter_si,
           sim.setup().shape->contains(sim.body().body_to_inertial().transpose() * from_centre_si), 0};
   const std::array<int, 3>& n = sim.derived().cells;
   p.cells_to_face = n[0];
@@ -56,7 +56,7 @@ std::string density_cause(const Simulation& sim, const Place& place) {
   // The lattice pressure is c_s^2 (rho - 1). Its inertial part scales with u^2, its viscous part
   // with (tau - 0.5) u / L: in a thin gap (a particle nearing a wall, L the gap) the viscous part
   // dominates at large tau, and lowering dt (numerics.max_tau) shrinks it as dt^2.
-  const double tau = sim.derived().tau;
+  const double tau = sim.units().tau();
   if (sim.setup().interior_markers && place.inside_particle)
     return "the pressure in the fluid that numerics.interior_markers holds rigid inside the particle: steady, about "
            "20 x rho U^2 / 2 (docs/coupling.md, \"Pressure inside a body with interior markers\"), a density "
@@ -82,14 +82,14 @@ HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
         "NaN or infinity in the {} (the fluid diverged). Likely cause: relaxation time too close to 0.5 for the "
         "resolution (tau = {:.4f}) or a particle much faster than expected; raise numerics.cells_per_diameter, "
         "lower numerics.max_lattice_velocity, or use numerics.collision = \"recursive_regularized\"",
-        body_finite(sim) ? "fluid" : "particle state", sim.derived().tau);
+        body_finite(sim) ? "fluid" : "particle state", sim.units().tau());
   } else if (r.max_lattice_speed > limits.max_lattice_speed) {
     r.problem = fmt::format(
         "largest fluid speed {:.3f} in lattice units (Mach {:.2f}) exceeds {:.2f}; dt was chosen for {:.3f}; {}. "
         "Likely cause: the particle falls faster than the terminal-velocity estimate ({:.4g} m/s); lower "
         "numerics.max_lattice_velocity",
         r.max_lattice_speed, r.max_lattice_speed * std::sqrt(3.0), limits.max_lattice_speed, design_speed,
-        describe(sim, place_of(sim, e.max_speed_cell)), sim.derived().expected_speed_si);
+        describe(sim, place_of(sim, e.max_speed_cell)), sim.plan().expected_speed_si);
   } else if (std::max(r.max_density - 1.0, 1.0 - r.min_density) > limits.max_density_deviation) {
     const bool high = r.max_density - 1.0 >= 1.0 - r.min_density;
     const Place place = place_of(sim, high ? e.max_density_cell : e.min_density_cell);

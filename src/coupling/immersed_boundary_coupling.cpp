@@ -12,25 +12,30 @@ ImmersedBoundaryCoupling::ImmersedBoundaryCoupling(std::shared_ptr<const body::S
       options_(options),
       body_markers_(make_body_markers(*shape_, dx_si_, options.marker_retraction_cells, options.interior_markers)) {}
 
-CellBox ImmersedBoundaryCoupling::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
+CellBox immersed_boundary_box(const body::Shape& shape, double dx_si, ibm::DeltaKernel kernel,
+                              const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) {
   // The body's extent along each grid axis at this attitude (support function, lattice units),
   // widened to every cell that the delta kernel of a point within that extent touches (first cell
   // floor(x - h) + 1, `width` cells: ibm::axis_stencil). Markers lie on or inside the surface, so
   // this holds their stencils, and every cell the body overlaps (the volume fractions). Tighter than
   // the bounding sphere, so a tilted or flat body can come as close to a wall as its stencils allow.
-  const double h = ibm::support_half_width(options_.kernel);
-  const int width = ibm::stencil_width(options_.kernel);
+  const double h = ibm::support_half_width(kernel);
+  const int width = ibm::stencil_width(kernel);
   CellBox box;
   for (int a = 0; a < 3; ++a) {
     const Eigen::Vector3d axis_b = body_to_inertial.row(a).transpose();
-    const double lower = centre[a] - shape_->support(-axis_b) / dx_si_;
-    const double upper = centre[a] + shape_->support(axis_b) / dx_si_;
+    const double lower = centre[a] - shape.support(-axis_b) / dx_si;
+    const double upper = centre[a] + shape.support(axis_b) / dx_si;
     const int first = static_cast<int>(std::floor(lower - h)) + 1;
     const int last = static_cast<int>(std::floor(upper - h)) + width;
     box.origin[static_cast<std::size_t>(a)] = first;
     box.extent[static_cast<std::size_t>(a)] = last - first + 1;
   }
   return box;
+}
+
+CellBox ImmersedBoundaryCoupling::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
+  return immersed_boundary_box(*shape_, dx_si_, options_.kernel, centre, body_to_inertial);
 }
 
 FluidMomentum ImmersedBoundaryCoupling::internal_momentum_at(const lbm::Solver& fluid, const LatticePose& pose) const {

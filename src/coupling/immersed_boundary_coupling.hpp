@@ -11,6 +11,12 @@
 
 namespace settle::coupling {
 
+/// The cells the immersed boundary works on for a body at `centre` (lattice units) with this
+/// attitude: the body's extent along each grid axis widened to every cell the delta kernel of a point
+/// in it touches (ImmersedBoundaryCoupling::box_at, computed without building the coupling).
+CellBox immersed_boundary_box(const body::Shape& shape, double dx_si, ibm::DeltaKernel kernel,
+                              const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial);
+
 class ImmersedBoundaryCoupling final : public BodyCoupling {
  public:
   ImmersedBoundaryCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options);

@@ -100,18 +100,23 @@ MomentumExchangeCoupling::MomentumExchangeCoupling(std::shared_ptr<const body::S
                                                    const CouplingOptions& options)
     : shape_(std::move(shape)), dx_si_(dx_si), options_(options) {}
 
-CellBox MomentumExchangeCoupling::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
+CellBox momentum_exchange_box(const body::Shape& shape, double dx_si, const Eigen::Vector3d& centre,
+                              const Eigen::Matrix3d& body_to_inertial) {
   // Every cell whose centre can lie inside the body, and one layer around them: the fluid ends
   // of the links and the cells a refill reads.
   CellBox box;
   for (int a = 0; a < 3; ++a) {
     const Eigen::Vector3d axis_b = body_to_inertial.row(a).transpose();
-    const int first = static_cast<int>(std::ceil(centre[a] - shape_->support(-axis_b) / dx_si_)) - 1;
-    const int last = static_cast<int>(std::floor(centre[a] + shape_->support(axis_b) / dx_si_)) + 1;
+    const int first = static_cast<int>(std::ceil(centre[a] - shape.support(-axis_b) / dx_si)) - 1;
+    const int last = static_cast<int>(std::floor(centre[a] + shape.support(axis_b) / dx_si)) + 1;
     box.origin[static_cast<std::size_t>(a)] = first;
     box.extent[static_cast<std::size_t>(a)] = last - first + 1;
   }
   return box;
+}
+
+CellBox MomentumExchangeCoupling::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
+  return momentum_exchange_box(*shape_, dx_si_, centre, body_to_inertial);
 }
 
 void MomentumExchangeCoupling::start(lbm::Solver& fluid, const LatticePose& pose) {

@@ -40,6 +40,12 @@ struct BodyWalls {
 BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
                      std::span<const std::array<int, 3>> velocities, lbm::WallRule rule);
 
+/// The cells the momentum exchange works on for a body at `centre` (lattice units) with this
+/// attitude: every cell whose centre can lie inside the body and one layer around them
+/// (MomentumExchangeCoupling::box_at, computed without building the coupling).
+CellBox momentum_exchange_box(const body::Shape& shape, double dx_si, const Eigen::Vector3d& centre,
+                              const Eigen::Matrix3d& body_to_inertial);
+
 class MomentumExchangeCoupling final : public BodyCoupling {
  public:
   MomentumExchangeCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options);

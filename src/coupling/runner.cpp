@@ -56,7 +56,7 @@ Sample take_sample(const Simulation& sim, double t_si) {
     s.relative_flow_si = sim.body().motion_kind() == body::MotionKind::fixed ? sim.superficial_velocity_si()
                                                                             : Eigen::Vector3d(-state.velocity_si);
   }
-  s.reynolds = s.relative_flow_si.norm() * sim.derived().equivalent_diameter_si / sim.units().kinematic_viscosity_si();
+  s.reynolds = s.relative_flow_si.norm() * sim.plan().equivalent_diameter_si / sim.units().kinematic_viscosity_si();
   return s;
 }
 
@@ -154,8 +154,8 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
 
 RunSummary summarise(const Simulation& sim, const RunResult& result) {
   RunSummary summary;
-  summary.galileo = sim.derived().galileo;
-  const double d = sim.derived().equivalent_diameter_si;
+  summary.galileo = sim.plan().galileo;
+  const double d = sim.plan().equivalent_diameter_si;
   const double rho = sim.setup().fluid_density_si;
   const double nu = sim.units().kinematic_viscosity_si();
   const double area = std::numbers::pi * d * d / 4.0;

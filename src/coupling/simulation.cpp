@@ -78,46 +78,20 @@ double SubstepTimers::total() const {
 }
 
 Simulation::Simulation(SimulationSetup setup)
-    : setup_(std::move(setup)), plan_(plan_case(setup_)), units_(plan_.units) {
+    : setup_(std::move(setup)), plan_(plan_case(setup_)) {
   const body::Shape& shape = *setup_.shape;
-  derived_.equivalent_diameter_si = plan_.equivalent_diameter_si;
-  derived_.dx_si = units_.dx_si();
-  derived_.dt_si = units_.dt_si();
-  derived_.tau = units_.tau();
-  derived_.expected_speed_si = plan_.expected_speed_si;
-  derived_.mach = plan_.mach;
-  derived_.reynolds = plan_.reynolds;
-  derived_.galileo = plan_.galileo;
   derived_.cells = grid_cells(plan_, setup_);
-  derived_.release_step = plan_.release_step;
-  frame_.dx_si = units_.dx_si();
+  frame_.dx_si = plan_.units.dx_si();
 
   const lbm::SolverConfig config = fluid_config();
   lbm::validate(config);
 
-  CouplingOptions options;
-  options.kind = setup_.coupling;
-  options.kernel = setup_.kernel;
-  options.forcing_iterations = setup_.forcing_iterations;
-  options.marker_retraction_cells = setup_.marker_retraction_cells;
-  options.interior_markers = setup_.interior_markers;
-  options.wall_rule = setup_.wall_rule;
-  coupling_ = make_coupling(setup_.shape, units_.dx_si(), options);
+  coupling_ = make_coupling(setup_.shape, plan_.units.dx_si(), coupling_options(setup_));
 
-  // The body and its stencil must start inside the grid: checked before the grid is allocated.
-  const Eigen::Vector3d centre = frame_.to_lattice(setup_.initial.position_si);
-  window_anchor_ = centre;
-  const CellBox box = box_at(centre, setup_.initial.attitude.body_to_inertial());
-  for (int a = 0; a < 3; ++a) {
-    const auto i = static_cast<std::size_t>(a);
-    const int n = derived_.cells[i];
-    const bool periodic = setup_.boundaries[i] == lbm::Boundary::periodic;
-    if ((periodic && box.extent[i] > n) || (!periodic && (box.origin[i] < 0 || box.origin[i] + box.extent[i] > n)))
-      throw InputError(fmt::format(
-          "particle.position: the particle (width {:.4g} m along {} at its initial orientation) and its forcing "
-          "stencil reach outside the domain; move particle.position or enlarge domain.size",
-          shape.width(setup_.initial.attitude.body_to_inertial().row(a).transpose()), "xyz"[a]));
-  }
+  // The body and the cells its coupling works on must start inside the grid: checked before the
+  // grid is allocated, by the rule the preflight applies too.
+  check_body_box_in_grid(setup_, plan_.units.dx_si(), derived_.cells);
+  window_anchor_ = frame_.to_lattice(setup_.initial.position_si);
 
   body::Environment environment{setup_.fluid_density_si, setup_.gravity_si};
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
@@ -145,8 +119,8 @@ lbm::SolverConfig Simulation::fluid_config() const {
   config.ny = derived_.cells[1];
   config.nz = derived_.cells[2];
   config.boundaries = setup_.boundaries;
-  config.tau = units_.tau();
-  for (int a = 0; a < 3; ++a) config.body_force[a] = units_.force_density(setup_.body_force_si[a]);
+  config.tau = plan_.units.tau();
+  for (int a = 0; a < 3; ++a) config.body_force[a] = plan_.units.force_density(setup_.body_force_si[a]);
   if (setup_.inflow) {
     config.open_faces.push_back({*setup_.inflow, lbm::Boundary::velocity});
     config.inflow_velocity = lattice_velocity(setup_.inflow_velocity_si);
@@ -157,17 +131,17 @@ lbm::SolverConfig Simulation::fluid_config() const {
 
 Eigen::Vector3d Simulation::lattice_velocity(const Eigen::Vector3d& velocity_si) const {
   Eigen::Vector3d u;
-  for (int a = 0; a < 3; ++a) u[a] = units_.velocity(velocity_si[a]);
+  for (int a = 0; a < 3; ++a) u[a] = plan_.units.velocity(velocity_si[a]);
   return u;
 }
 
 LatticePose Simulation::lattice_pose(const body::Pose& pose) const {
-  const double dt_si = units_.dt_si();
+  const double dt_si = plan_.units.dt_si();
   const auto& state = body_->state();
   LatticePose p;
   p.centre = frame_.to_lattice(pose.position_si);
   p.body_to_inertial = pose.attitude.body_to_inertial();
-  p.velocity = state.velocity_si * dt_si / units_.dx_si();
+  p.velocity = state.velocity_si * dt_si / plan_.units.dx_si();
   p.angular_velocity_n = p.body_to_inertial * state.angular_velocity_b_si * dt_si;
   return p;
 }
@@ -177,56 +151,23 @@ CellBox Simulation::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d&
 }
 
 void Simulation::make_wall_contact() {
-  if (!setup_.wall_contact || setup_.follow_particle || setup_.motion != body::MotionKind::free) return;
-  // Half-way walls: the faces of the grid, at 0 and cells x dx from the window's corner.
-  std::vector<body::WallPlane> walls;
-  const auto open = [&](int axis, int side) {
-    const lbm::Face face{axis, side};
-    return (setup_.inflow && *setup_.inflow == face) || (setup_.outflow && *setup_.outflow == face);
-  };
-  for (int a = 0; a < 3; ++a) {
-    const auto i = static_cast<std::size_t>(a);
-    if (setup_.boundaries[i] == lbm::Boundary::periodic) continue;
-    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
-    if (!open(a, 0)) walls.push_back({axis, frame_.window_origin_si[a]});
-    if (!open(a, 1)) walls.push_back({-axis, -(frame_.window_origin_si[a] + derived_.cells[i] * units_.dx_si())});
-  }
-  if (walls.empty()) return;
-  body::ContactParameters parameters;
-  parameters.restitution = setup_.contact_restitution;
-  parameters.wet_stokes_scale = setup_.contact_wet_stokes_scale;
-  parameters.fluid_dynamic_viscosity_si = setup_.dynamic_viscosity_si;
-  parameters.collision_time_si = setup_.contact_collision_steps * units_.dt_si();
-  parameters.contact_distance_si = contact_distance_cells(setup_) * units_.dx_si();
-  contact_.emplace(setup_.shape, std::move(walls), parameters);
-
-  // A body starting deeper in the spring than its own weight would press it (twice the static
-  // compression) would be thrown off the wall by the stored energy: refused. Resting on the wall at
-  // zeta - W/k is allowed.
-  const double mass = body_->mass_properties().mass;
-  const double compression = body_->net_weight_si().norm() / body::spring_dashpot(mass, mass, parameters).stiffness;
-  const double gap = contact_->min_gap_si(body_->state());
-  if (gap < parameters.contact_distance_si - 2.0 * compression)
-    throw InputError(fmt::format("particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
-                                 "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring would "
-                                 "throw it off. Move it at least {:.4g} m from the walls",
-                                 gap, gap / units_.dx_si(), contact_distance_cells(setup_),
-                                 parameters.contact_distance_si - compression));
+  contact_ = start_wall_contact(setup_, plan_.units.dx_si(), plan_.units.dt_si(), derived_.cells,
+                                frame_.window_origin_si);
 }
 
 bool Simulation::can_step() const {
-  const body::Pose pose = body_->predict_pose(units_.dt_si());
+  const body::Pose pose = body_->predict_pose(plan_.units.dt_si());
   return box_fits(box_at(frame_.to_lattice(pose.position_si), pose.attitude.body_to_inertial()), *fluid_);
 }
 
 SolidCells Simulation::current_solid_cells() const {
   const Eigen::Vector3d centre = frame_.to_lattice(body_->state().position_si);
   const Eigen::Matrix3d rotation = body_->body_to_inertial();
-  return solid_cells(*setup_.shape, units_.dx_si(), box_at(centre, rotation), centre, rotation);
+  return solid_cells(*setup_.shape, plan_.units.dx_si(), box_at(centre, rotation), centre, rotation);
 }
 
 void Simulation::step() {
-  const double dt_si = units_.dt_si();
+  const double dt_si = plan_.units.dt_si();
   body::Pose pose;
   {
     ScopedTimer timer(timers_, "body_predictor");
@@ -254,16 +195,16 @@ void Simulation::step() {
     const auto to_si = [&](const LatticeWrench& w) {
       body::Wrench si;
       for (int a = 0; a < 3; ++a) {
-        si.force_si[a] = units_.force_si(w.force[a]);
-        si.torque_si[a] = units_.torque_si(w.torque[a]);
+        si.force_si[a] = plan_.units.force_si(w.force[a]);
+        si.torque_si[a] = plan_.units.torque_si(w.torque[a]);
       }
       return si;
     };
     last_.hydrodynamic = to_si(forces.total);
     last_.marker_reaction = to_si(forces.surface);
     last_.internal_rate = to_si(forces.internal_rate);
-    last_.slip_max_si = units_.velocity_si(forces.slip_max);
-    last_.slip_rms_si = units_.velocity_si(forces.slip_rms);
+    last_.slip_max_si = plan_.units.velocity_si(forces.slip_max);
+    last_.slip_rms_si = plan_.units.velocity_si(forces.slip_rms);
   }
   {
     ScopedTimer timer(timers_, "body_corrector");
@@ -298,7 +239,7 @@ void Simulation::follow_body() {
     if (std::abs(offset) < 1.0) continue;
     const int sign = offset > 0.0 ? 1 : -1;
     fluid_->shift(a, sign);
-    frame_.window_origin_si[a] += sign * units_.dx_si();
+    frame_.window_origin_si[a] += sign * plan_.units.dx_si();
   }
 }
 
@@ -316,7 +257,7 @@ Eigen::Vector3d Simulation::superficial_velocity_si() const {
     }
   }
   Eigen::Vector3d mean = sum / static_cast<double>(fluid_->cell_count());
-  for (int a = 0; a < 3; ++a) mean[a] = units_.velocity_si(mean[a]);
+  for (int a = 0; a < 3; ++a) mean[a] = plan_.units.velocity_si(mean[a]);
   return mean;
 }
 

@@ -59,19 +59,11 @@
 
 namespace settle::coupling {
 
-/// The numbers the converter chose and the dimensionless groups of the case (logged at start and
-/// written to case.resolved.toml and summary.json).
+/// What building the simulation adds to its plan (Simulation::plan(): units, dimensionless groups,
+/// steps): the grid as allocated and the body's surface elements.
 struct DerivedQuantities {
-  double dx_si = 0.0, dt_si = 0.0, tau = 0.0;
-  double expected_speed_si = 0.0;  ///< the speed dt was chosen for
-  double mach = 0.0;               ///< of the expected speed
-  double reynolds = 0.0;           ///< expected speed x d_eq / nu
-  double galileo = 0.0;
-  double equivalent_diameter_si = 0.0;
   std::array<int, 3> cells{};
   std::size_t marker_count = 0;  ///< surface elements: markers, or wall links at the start
-  /// A free body is held during the steps before this one (SimulationSetup::release_time_si).
-  std::int64_t release_step = 0;
 };
 
 
@@ -119,7 +111,7 @@ class Simulation {
   const SimulationSetup& setup() const { return setup_; }
   const DerivedQuantities& derived() const { return derived_; }
   const CasePlan& plan() const { return plan_; }
-  const UnitConverter& units() const { return units_; }
+  const UnitConverter& units() const { return plan_.units; }
   const body::RigidBody& body() const { return *body_; }
   /// The particle-wall contact model; empty without contact walls (setup().wall_contact off, all
   /// axes periodic, a following window, or a towed or fixed body).
@@ -132,7 +124,7 @@ class Simulation {
   std::int64_t steps() const { return steps_; }
   /// True while a free body is held before its release (SimulationSetup::release_time_si): the
   /// next step moves it with its initial velocities, the fluid forms its wake around it.
-  bool held() const { return steps_ < derived_.release_step; }
+  bool held() const { return steps_ < plan_.release_step; }
 
   /// Mean fluid velocity over the whole domain with the solid counted as zero (the superficial
   /// velocity of Zick and Homsy 1982), m/s. Sweeps the whole grid: for outputs, not every step.
@@ -151,7 +143,6 @@ class Simulation {
 
   SimulationSetup setup_;
   CasePlan plan_;
-  UnitConverter units_;  ///< plan_.units
   DerivedQuantities derived_;
   LatticeFrame frame_;
   std::unique_ptr<lbm::Solver> fluid_;

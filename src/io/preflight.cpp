@@ -164,47 +164,6 @@ void check_walls_clear(const FaceClearance& c, const std::array<double, 3>& exte
   }
 }
 
-// Mirrors the Simulation constructor's check (coupling/simulation.cpp, Simulation::box_at, a
-// private member): per grid axis, the body's extent at its attitude (support function) widened
-// to every cell the delta kernel of a point in that extent touches, first cell floor(x - h) + 1
-// and `stencil_width` cells (ibm::axis_stencil), must lie in the grid; along a periodic axis it
-// must span no more cells than the grid.
-void check_stencil_room(const coupling::SimulationSetup& s, double dx_si, const std::array<double, 3>& cells) {
-  const double h = ibm::support_half_width(s.kernel);
-  const int width = ibm::stencil_width(s.kernel);
-  const Eigen::Vector3d centre = s.initial.position_si / dx_si - Eigen::Vector3d::Constant(0.5);
-  const Eigen::Matrix3d rotation = s.initial.attitude.body_to_inertial();
-  for (int a = 0; a < 3; ++a) {
-    const auto i = static_cast<std::size_t>(a);
-    const Eigen::Vector3d axis_b = rotation.row(a).transpose();
-    const double lower = centre[a] - s.shape->support(-axis_b) / dx_si;
-    const double upper = centre[a] + s.shape->support(axis_b) / dx_si;
-    const int first = static_cast<int>(std::floor(lower - h)) + 1;
-    const int last = static_cast<int>(std::floor(upper - h)) + width;
-    const int n = static_cast<int>(cells[i]);
-    if (s.boundaries[i] == lbm::Boundary::periodic) {
-      if (last - first + 1 > n)
-        throw InputError(fmt::format(
-            "domain.size: along {} the periodic domain is {} cells, but the particle and its forcing stencil span {} "
-            "cells; enlarge domain.size along {}",
-            kAxis[a], n, last - first + 1, kAxis[a]));
-      continue;
-    }
-    // Wall planes at lattice -1/2 and n - 1/2: the body's surface must keep h - 1/2 cells
-    // (bottom) and width - h - 1/2 cells (top) of fluid between itself and the wall.
-    const bool at_lower = first < 0;
-    if (!at_lower && last <= n - 1) continue;
-    const double gap_cells = at_lower ? lower + 0.5 : (n - 0.5) - upper;
-    const double needed_cells = at_lower ? h - 0.5 : width - h - 0.5;
-    throw InputError(fmt::format(
-        "particle.position: at its initial attitude the particle's surface is {:.4g} m from the wall at {} = {:.4g} m, "
-        "but the immersed-boundary forcing stencil needs at least {:.4g} m ({:g} cell{}) of fluid there; move "
-        "particle.position or enlarge domain.size",
-        gap_cells * dx_si, kAxis[a], at_lower ? 0.0 : cells[i] * dx_si, needed_cells * dx_si, needed_cells,
-        needed_cells == 1.0 ? "" : "s"));
-  }
-}
-
 // ---- 6. markers and steps ---------------------------------------------------------------------
 
 void check_markers(double markers, double dx_si) {
@@ -357,38 +316,9 @@ void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, 
   check_centre_inside(s.initial.position_si, extent_si);
   check_width(clearance, extent_si, dx_si, s);
   check_walls_clear(clearance, extent_si, s);
-  check_stencil_room(s, dx_si, cells);
-}
-
-void check_contact_start(const coupling::SimulationSetup& s, double dx_si, double dt_si,
-                         const std::array<double, 3>& cells) {
-  if (!s.wall_contact || s.motion != body::MotionKind::free || s.follow_particle) return;
-  // Its range is the plan's check (coupling/case_plan.cpp).
-  const double distance_cells = coupling::contact_distance_cells(s);
-  const std::array<double, 3> extent_si{cells[0] * dx_si, cells[1] * dx_si, cells[2] * dx_si};
-  const FaceClearance clearance =
-      face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(),
-                     Eigen::Vector3d(extent_si[0], extent_si[1], extent_si[2]));
-  double gap_si = std::numeric_limits<double>::infinity();
-  for (std::size_t a = 0; a < 3; ++a)
-    if (s.boundaries[a] != lbm::Boundary::periodic)
-      gap_si = std::min({gap_si, clearance.lower_si[a], clearance.upper_si[a]});
-  if (!std::isfinite(gap_si)) return;  // all axes periodic: no contact walls
-  // The same parameters and stiffness as Simulation::make_wall_contact (k from the whole mass).
-  body::ContactParameters parameters;
-  parameters.restitution = s.contact_restitution;
-  parameters.collision_time_si = s.contact_collision_steps * dt_si;
-  parameters.contact_distance_si = distance_cells * dx_si;
-  const double mass_si = s.shape->mass_properties(s.particle_density_si).mass;
-  const double net_weight_si =
-      std::abs((s.particle_density_si - s.fluid_density_si) * s.shape->volume()) * s.gravity_si.norm();
-  const double compression_si = net_weight_si / body::spring_dashpot(mass_si, mass_si, parameters).stiffness;
-  if (gap_si < parameters.contact_distance_si - 2.0 * compression_si)
-    throw InputError(fmt::format("particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
-                                 "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring "
-                                 "would throw it off. Move it at least {:.4g} m from the walls, lower "
-                                 "contact.distance_cells, or set contact.enabled = false",
-                                 gap_si, gap_si / dx_si, distance_cells, parameters.contact_distance_si - compression_si));
+  // The grid fits in int: check_grid_size came first.
+  coupling::check_body_box_in_grid(s, dx_si, {static_cast<int>(cells[0]), static_cast<int>(cells[1]),
+                                              static_cast<int>(cells[2])});
 }
 
 void check_net_weight(const coupling::SimulationSetup& s) {
@@ -443,29 +373,25 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   check_numbers(s);
   PreflightReport r(checked_plan(s));
   check_net_weight(s);
-  r.dx_si = r.plan.units.dx_si();
-  r.dt_si = r.plan.units.dt_si();
-  r.tau = r.plan.units.tau();
-  r.expected_speed_si = r.plan.expected_speed_si;
-  r.mach = r.plan.mach;
+  const double dx_si = r.plan.units.dx_si(), dt_si = r.plan.units.dt_si();
 
   const GridExtent grid{r.plan.cells};
   r.cell_count = grid.total();
-  check_grid_size(grid, r.dx_si, s.domain_size_si, rough_grid_bytes(grid, s));
+  check_grid_size(grid, dx_si, s.domain_size_si, rough_grid_bytes(grid, s));
   for (std::size_t a = 0; a < 3; ++a) r.cells[a] = static_cast<int>(grid.cells[a]);
 
-  check_particle_in_domain(s, r.dx_si, grid.cells);
-  check_contact_start(s, r.dx_si, r.dt_si, grid.cells);
-  r.markers = s.shape->surface_area() / (r.dx_si * r.dx_si);
-  check_markers(r.markers, r.dx_si);
-  r.markers += estimated_interior_markers(s, r.dx_si);
+  check_particle_in_domain(s, dx_si, grid.cells);
+  coupling::start_wall_contact(s, dx_si, dt_si, r.cells, Eigen::Vector3d::Zero());  // refuses a start inside the spring
+  r.markers = s.shape->surface_area() / (dx_si * dx_si);
+  check_markers(r.markers, dx_si);
+  r.markers += estimated_interior_markers(s, dx_si);
   r.steps = checked_steps(s, r.plan);
 
   MemoryInputs memory;
   memory.cells = r.cells;
   memory.lattice = s.lattice;
   memory.precision = s.precision;
-  const double box_side = 2.0 * (s.shape->bounding_radius() / r.dx_si + ibm::support_half_width(s.kernel)) + 2.0;
+  const double box_side = 2.0 * (s.shape->bounding_radius() / dx_si + ibm::support_half_width(s.kernel)) + 2.0;
   memory.body_box_cells = box_side * box_side * box_side;
   memory.markers = r.markers;
   memory.samples = sample_count(s, r.steps);
@@ -481,7 +407,7 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   if (r.memory_budget_bytes) check_memory(r.memory, *r.memory_budget_bytes, r.memory_budget_source);
 
   if (!options.output_directory.empty()) check_output_directory(options.output_directory);
-  r.warnings = advisories(s, r.dx_si, r.dt_si);
+  r.warnings = advisories(s, dx_si, dt_si);
   return r;
 }
 

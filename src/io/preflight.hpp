@@ -134,8 +134,7 @@ struct PreflightOptions {
 /// What preflight found: the numbers the run will use, printed by `settle run` before it starts.
 struct PreflightReport {
   explicit PreflightReport(coupling::CasePlan case_plan) : plan(std::move(case_plan)) {}
-  coupling::CasePlan plan;
-  double dx_si = 0.0, dt_si = 0.0, tau = 0.0, mach = 0.0, expected_speed_si = 0.0;
+  coupling::CasePlan plan;  ///< units, dimensionless groups, steps (the Simulation's own plan)
   std::array<int, 3> cells{};
   double cell_count = 0.0;
   double steps = 0.0;

@@ -292,9 +292,9 @@ TEST_F(MalformedInput, ParticleTooCloseToAWallForTheForcingStencil) {
 }
 
 TEST_F(MalformedInput, ParticleInsideTheWallContactDistance) {
-  // One cell of water under the sphere: enough for the stencil, so preflight passes, but inside the
-  // wall-contact spring's reach (1.5 cells), which the Simulation constructor refuses. That refusal
-  // comes after preflight, and must leave the results directory untouched all the same.
+  // One cell of water under the sphere: enough for the stencil, but inside the wall-contact
+  // spring's reach (1.5 cells): refused (coupling::start_wall_contact, the rule the preflight and the
+  // Simulation constructor share), leaving the results directory untouched.
   expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 6.25e-4]'", {"particle.position", "wall-contact"});
 }
 

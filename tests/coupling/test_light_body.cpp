@@ -95,7 +95,7 @@ Fall fall_for(Simulation& sim, double duration_si) {
   const Eigen::Vector3d start = body.state().position_si;
   const Eigen::Vector3d net_weight = body.net_weight_si();
   const Eigen::Matrix3d& inertia = body.mass_properties().inertia;
-  const auto steps = static_cast<std::int64_t>(std::ceil(duration_si / sim.derived().dt_si));
+  const auto steps = static_cast<std::int64_t>(std::ceil(duration_si / sim.units().dt_si()));
   for (std::int64_t n = 0; n < steps; ++n) {
     if (!sim.can_step()) {
       f.left_grid = true;
@@ -141,7 +141,7 @@ void cube_stays_bounded(double density_ratio) {
               "max |omega| = %.3g rad/s, sinking at %.4g m/s\n",
               density_ratio, static_cast<long long>(f.steps), f.max_energy_ratio, f.max_rotation_ratio,
               f.max_angular_speed_si, f.vertical_speed_si.empty() ? 0.0 : f.vertical_speed_si.back());
-  expect_bounded_by_the_work_of_the_net_weight(f, kDuration, sim.derived().dt_si);
+  expect_bounded_by_the_work_of_the_net_weight(f, kDuration, sim.units().dt_si());
 }
 
 TEST(CouplingLightBody, AcrylicCubeAt8CellsStaysBoundedOverTheFirstTenthOfASecond) { cube_stays_bounded(1190.0 / kWaterDensity); }
@@ -184,7 +184,7 @@ TEST(CouplingLightBody, SphereReleasedFromRestTakesTheAddedMassAccelerationAndSt
   constexpr double kDiameter = 1.24e-3;  // m: the cube's d_eq
   const double density = kRatio * kWaterDensity;
   Simulation sim(falling(sphere_shape(kDiameter), kRatio, attitude::Attitude{}));
-  const double dt = sim.derived().dt_si;
+  const double dt = sim.units().dt_si();
   const double added_mass_acceleration = (density - kWaterDensity) * kGravity / (density + 0.5 * kWaterDensity);
   constexpr double kDuration = 0.05;  // s: 118 steps, far past the transient checked below
   const Fall f = fall_for(sim, kDuration);

@@ -48,7 +48,7 @@ TEST(Release, HeldBodyMovesAsTheTowedOneUntilItsReleaseThenSlowsTowardsItsTermin
   held_setup.release_time_si = kHeldSteps * towed.units().dt_si();
   Simulation held(held_setup);
   ASSERT_EQ(held.units().dt_si(), towed.units().dt_si());
-  ASSERT_EQ(held.derived().release_step, kHeldSteps) << "a release time of whole steps is not rounded up";
+  ASSERT_EQ(held.plan().release_step, kHeldSteps) << "a release time of whole steps is not rounded up";
 
   const Eigen::Vector3d v0 = held_setup.initial.velocity_si;
   for (int n = 0; n < kHeldSteps; ++n) {
@@ -82,7 +82,7 @@ TEST(Release, HeldBodyMovesAsTheTowedOneUntilItsReleaseThenSlowsTowardsItsTermin
 
 TEST(Release, WithoutAReleaseTimeAFreeBodyIsNeverHeld) {
   const Simulation sim(sphere_moving_down(body::MotionKind::free));
-  EXPECT_EQ(sim.derived().release_step, 0);
+  EXPECT_EQ(sim.plan().release_step, 0);
   EXPECT_FALSE(sim.held());
 }
 

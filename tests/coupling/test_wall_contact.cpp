@@ -113,7 +113,7 @@ struct ContactNumbers {
 ContactNumbers contact_numbers(const Simulation& sim) {
   const body::WallContact& contact = *sim.wall_contact();
   const double mass = sim.body().mass_properties().mass;
-  return {sim.derived().dx_si, contact.parameters().contact_distance_si,
+  return {sim.units().dx_si(), contact.parameters().contact_distance_si,
           body::spring_dashpot(mass, mass, contact.parameters()).stiffness, contact.parameters().collision_time_si,
           -sim.body().net_weight_si().z()};
 }
@@ -201,9 +201,9 @@ TEST(WallContact, WiredOnlyWhereABodyCanReachAWall) {
     EXPECT_EQ(sim.wall_contact()->walls().size(), 2u);  // the free-slip floor and ceiling only
     // Walls at the grid's faces, where the half-way bounce-back puts them: z = 0 and z = cells dx.
     EXPECT_EQ(sim.wall_contact()->walls()[0].offset_si, 0.0);
-    EXPECT_NEAR(-sim.wall_contact()->walls()[1].offset_si, sim.derived().cells[2] * sim.derived().dx_si, 1e-18);
+    EXPECT_NEAR(-sim.wall_contact()->walls()[1].offset_si, sim.derived().cells[2] * sim.units().dx_si(), 1e-18);
     // Default contact distance: the roma3 kernel's half-width, 1.5 cells.
-    EXPECT_NEAR(sim.wall_contact()->parameters().contact_distance_si, 1.5 * sim.derived().dx_si, 1e-18);
+    EXPECT_NEAR(sim.wall_contact()->parameters().contact_distance_si, 1.5 * sim.units().dx_si(), 1e-18);
   }
   setup.follow_particle = true;
   EXPECT_FALSE(Simulation(setup).wall_contact().has_value());  // the window keeps the body off the faces

@@ -105,7 +105,7 @@ inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
   r.slip_rms = sim.last_step().slip_rms_si / o.lattice_speed;
   r.steps = sim.steps();
   r.cells = sim.derived().cells;
-  r.tau = sim.derived().tau;
+  r.tau = sim.units().tau();
   return r;
 }
 

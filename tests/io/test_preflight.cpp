@@ -203,33 +203,38 @@ bool preflight_accepts(const coupling::SimulationSetup& s) {
 }
 
 TEST(ParticleInDomain, PreflightAcceptsExactlyWhatTheSimulationAcceptsNearAWall) {
-  // The mirror of the Simulation constructor's stencil check, scanned across the threshold (for
-  // Roma's kernel the surface must keep one cell of fluid from the floor: the centre of this
-  // 4-cell-radius sphere at 5 cells or more) on a small grid so each Simulation costs milliseconds.
-  // Towed at rest: the rule is the same for every motion, and a free body near a wall also meets
-  // the wall-contact model's own start check (Simulation::make_wall_contact, stricter, not
-  // mirrored by preflight), which would hide this one.
-  coupling::SimulationSetup s = small_setup();
-  s.motion = body::MotionKind::towed;
-  const double dx = 1.0e-3 / 8.0;
-  int refused = 0;
-  for (double cells = 3.0; cells <= 8.0; cells += 0.25) {
-    s.initial.position_si = {2.0e-3, 2.0e-3, cells * dx};
-    const bool expected = simulation_accepts(s);
-    EXPECT_EQ(preflight_accepts(s), expected) << "centre " << cells << " cells above the floor";
-    refused += expected ? 0 : 1;
-    s.initial.position_si = {2.0e-3, 2.0e-3, 6.0e-3 - cells * dx};
-    EXPECT_EQ(preflight_accepts(s), simulation_accepts(s)) << "centre " << cells << " cells below the lid";
+  // One rule (coupling::check_body_box_in_grid) for both, scanned across the threshold with each
+  // coupling: Roma's kernel needs one cell of fluid between the surface and the floor (the centre
+  // of this 4-cell-radius sphere at 5 cells or more), the momentum exchange's box one layer around
+  // the cells the body can cover. A small grid, so each Simulation costs milliseconds. Towed at
+  // rest: the rule is the same for every motion, and a free body near a wall also meets the
+  // wall-contact model's start check (coupling::start_wall_contact, stricter), which would hide
+  // this one.
+  for (const auto kind : {coupling::CouplingKind::immersed_boundary, coupling::CouplingKind::momentum_exchange}) {
+    coupling::SimulationSetup s = small_setup();
+    s.motion = body::MotionKind::towed;
+    s.coupling = kind;
+    const double dx = 1.0e-3 / 8.0;
+    int refused = 0;
+    for (double cells = 3.0; cells <= 8.0; cells += 0.25) {
+      s.initial.position_si = {2.0e-3, 2.0e-3, cells * dx};
+      const bool expected = simulation_accepts(s);
+      EXPECT_EQ(preflight_accepts(s), expected) << coupling::to_string(kind) << ", centre " << cells << " cells above the floor";
+      refused += expected ? 0 : 1;
+      s.initial.position_si = {2.0e-3, 2.0e-3, 6.0e-3 - cells * dx};
+      EXPECT_EQ(preflight_accepts(s), simulation_accepts(s)) << coupling::to_string(kind) << ", centre " << cells << " cells below the lid";
+    }
+    EXPECT_GT(refused, 0) << coupling::to_string(kind);  // the scan crossed the threshold
+    EXPECT_LT(refused, 21) << coupling::to_string(kind);
   }
-  EXPECT_GT(refused, 0);  // the scan crossed the threshold
-  EXPECT_LT(refused, 21);
 
   // A tilted prolate spheroid (its extent along z depends on the attitude) along x and z.
-  s = small_setup();
+  const double dx = 1.0e-3 / 8.0;
+  coupling::SimulationSetup s = small_setup();
   s.motion = body::MotionKind::towed;
   s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::spheroid(0.8e-3, 2.0));
   s.initial.attitude = attitude::Attitude::from_set1(0.3, 0.5, 0.0);
-  refused = 0;
+  int refused = 0;
   for (double cells = 2.0; cells <= 10.0; cells += 0.25) {
     s.initial.position_si = {cells * dx, 2.0e-3, cells * dx};
     const bool expected = simulation_accepts(s);
@@ -301,10 +306,10 @@ TEST(Preflight, ReportsTheGridAndStepTheSimulationUses) {
   const PreflightReport r = preflight(s);
   const coupling::Simulation sim(s);
   // Same inputs to the same converter: identical numbers, not merely close.
-  EXPECT_EQ(r.dx_si, sim.derived().dx_si);
-  EXPECT_EQ(r.dt_si, sim.derived().dt_si);
-  EXPECT_EQ(r.tau, sim.derived().tau);
-  EXPECT_EQ(r.mach, sim.derived().mach);
+  EXPECT_EQ(r.plan.units.dx_si(), sim.units().dx_si());
+  EXPECT_EQ(r.plan.units.dt_si(), sim.units().dt_si());
+  EXPECT_EQ(r.plan.units.tau(), sim.units().tau());
+  EXPECT_EQ(r.plan.mach, sim.plan().mach);
   EXPECT_EQ(r.cells, sim.derived().cells);
   // The surface-area estimate of the marker count used for the 1e6 bound: the Fibonacci
   // markers of a sphere have about one cell^2 each, so within 10% of area / dx^2.
