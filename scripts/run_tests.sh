@@ -7,9 +7,8 @@
 #               (scripts/run_sanitizer_tests.sh)
 #   fuzz        build the libFuzzer targets with clang and fuzz the case parser and the STL
 #               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
-# On the 2-core development machine: about 9, 10 and 3 minutes from scratch on a fast day; on
-# 2026-11-26 (slow) 18 minutes for the release stage and 30 for the sanitizer stage (before five
-# more tests were labelled heavy).
+# On the 2-core development machine, 2026-11-26, from a clean clone: 10, 15 and 4 minutes
+# (docs/notes.md, "The test command's time").
 # SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
 # Validation runs are separate (docs/validation.md).
 set -euo pipefail
