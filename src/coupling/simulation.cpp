@@ -97,7 +97,8 @@ Simulation::Simulation(SimulationSetup setup)
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
                                             setup_.initial, setup_.motion);
   if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
-  make_wall_contact();
+  contact_ = start_wall_contact(setup_, plan_.units.dx_si(), plan_.units.dt_si(), derived_.cells,
+                                frame_.window_origin_si);
 
   fluid_ = lbm::make_solver(config);
   // With an inlet the fluid starts as its stream and the body appears in it at once: the
@@ -148,11 +149,6 @@ LatticePose Simulation::lattice_pose(const body::Pose& pose) const {
 
 CellBox Simulation::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const {
   return coupling_->box_at(centre, body_to_inertial);
-}
-
-void Simulation::make_wall_contact() {
-  contact_ = start_wall_contact(setup_, plan_.units.dx_si(), plan_.units.dt_si(), derived_.cells,
-                                frame_.window_origin_si);
 }
 
 bool Simulation::can_step() const {

@@ -138,7 +138,6 @@ class Simulation {
   LatticePose lattice_pose(const body::Pose& pose) const;
   Eigen::Vector3d lattice_velocity(const Eigen::Vector3d& velocity_si) const;
   lbm::SolverConfig fluid_config() const;
-  void make_wall_contact();
   void follow_body();
 
   SimulationSetup setup_;

@@ -15,7 +15,6 @@
 
 #include "coupling/immersed_body.hpp"
 #include "coupling/runner.hpp"
-#include "body/contact.hpp"
 #include "common/error.hpp"
 #include "common/require.hpp"
 #include "ibm/delta.hpp"

@@ -14,8 +14,9 @@
 //  4. grid: at least 4 cells per axis, at most coupling::kMaxGridCells, the
 //     memory the run will hold against the memory available;
 //  5. the particle at its initial pose: inside the domain, no wider than it, clear of every wall,
-//     far enough from the walls for the immersed-boundary stencil, and outside the wall-contact
-//     spring's reach (check_contact_start);
+//     far enough from the walls for the cells its coupling works on, and outside the wall-contact
+//     spring's reach (the last two are the Simulation's own rules: coupling::check_body_box_in_grid
+//     and coupling::start_wall_contact);
 //  6. markers and steps: at most a million surface markers, a step count that t = n dt counts
 //     exactly;
 //  7. the output directory: creatable and writable (nothing is created here).
@@ -96,19 +97,10 @@ FaceClearance face_clearance(const body::Shape& shape, const Eigen::Vector3d& po
                              const Eigen::Matrix3d& body_to_inertial, const Eigen::Vector3d& extent_si);
 
 /// Step 5 of the file comment. `cells` are the grid's cells per axis: the walls are the grid's
-/// faces, at 0 and cells x dx. Periodic axes have no wall; there the body and its stencil must
-/// only span less than the period. The stencil rule mirrors Simulation::box_at.
+/// faces, at 0 and cells x dx. Periodic axes have no wall; there the body and the cells its
+/// coupling works on must only span less than the period (coupling::check_body_box_in_grid).
 void check_particle_in_domain(const coupling::SimulationSetup& setup, double dx_si,
                               const std::array<double, 3>& cells);
-
-/// Step 5, continued: mirrors Simulation::make_wall_contact (a private member that needs the
-/// allocated body): with contact on, a free body and a fixed window, the support-function gap to
-/// every non-periodic face must be at least contact_distance - 2 |net weight| / k, where
-/// k = m (pi^2 + ln^2 e) / T_c^2 and T_c = contact.collision_steps x dt (body::spring_dashpot);
-/// a body starting deeper in the spring would be thrown off the wall. Also the kernel's lower
-/// bound of contact.distance_cells (half-width - 0.5).
-void check_contact_start(const coupling::SimulationSetup& setup, double dx_si, double dt_si,
-                         const std::array<double, 3>& cells);
 
 /// Step 3. A free particle whose net weight (rho_p - rho_f) V g is not zero drifts along
 /// sign(rho_p - rho_f) g: a heavy one sinks, a light one rises. With walls, the walls carry the

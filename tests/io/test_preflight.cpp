@@ -1,6 +1,6 @@
 // The preflight checks (io/preflight.hpp): the memory estimate against the memory a real solver
 // takes, the boundary-link count against the solver's copy lists, the particle's clearance
-// against closed forms, the mirrored checks against the Simulation constructor they mirror, and
+// against closed forms, the shared start-up rules against the Simulation constructor, and
 // the rules for net weight, memory budgets and output directories.
 #include <malloc.h>
 #include <omp.h>
@@ -299,7 +299,7 @@ TEST(NetWeight, ADriftingParticleNeedsWallsAlongGravity) {
   EXPECT_NO_THROW(check_net_weight(s));
 }
 
-// ---- the mirrored numbers and the report -------------------------------------------------------
+// ---- the plan's numbers and the report ---------------------------------------------------------
 
 TEST(Preflight, ReportsTheGridAndStepTheSimulationUses) {
   const coupling::SimulationSetup s = small_setup();
