@@ -1,36 +1,48 @@
-// `settle bench`: throughput of the fluid kernel on a periodic box, reported against this
-// machine's memory bandwidth measured in the same run (docs/architecture.md, "Contracts"; docs/lbm.md).
+// `settle bench`: throughput of the fluid kernel on a periodic box, or of a case's coupled step
+// (`--case`), reported against this machine's memory bandwidth measured in the same run
+// (docs/architecture.md, "Contracts"; docs/lbm.md; docs/performance.md).
 #include <omp.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <vector>
+#include <filesystem>
+#include <map>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "app/bench_rounds.hpp"
 #include "app/commands.hpp"
-#include "common/bandwidth_probe.hpp"
-#include "common/build_info.hpp"
 #include "common/error.hpp"
+#include "coupling/simulation.hpp"
+#include "io/case.hpp"
+#include "io/preflight.hpp"
 #include "lbm/solver.hpp"
 
 namespace settle::app {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct BenchOptions {
   std::string lattice = "D3Q19";
   std::string collision = "trt";
   std::string precision = "double";
   int size = 256;
+  std::string case_file;               ///< --case: time this case's coupled step instead
+  bool default_case = false;           ///< --default-case: the case `settle run` runs without a file
+  std::vector<std::string> overrides;  ///< --set, with --case
   int steps = 40;
   int threads = 0;  // 0: OpenMP's default
   int rounds = 5;
   double probe_gib = 1.0;
 };
+
+bool coupled(const BenchOptions& o) { return o.default_case || !o.case_file.empty(); }
+std::string case_name(const BenchOptions& o) { return o.default_case ? "default" : o.case_file; }
 
 void check(const BenchOptions& o) {
   if (o.size < 8 || o.size > 2048) throw InputError(fmt::format("--size: must be in [8, 2048], got {}", o.size));
@@ -39,9 +51,11 @@ void check(const BenchOptions& o) {
   if (o.threads < 0) throw InputError(fmt::format("--threads: must be >= 1 (or 0 for the default), got {}", o.threads));
   if (!(o.probe_gib >= 0.0625 && o.probe_gib <= 64.0))
     throw InputError(fmt::format("--probe-gib: must be in [0.0625, 64], got {}", o.probe_gib));
+  if (!o.overrides.empty() && !coupled(o))
+    throw InputError("--set: applies to a case, give --case CASE.toml or --default-case");
 }
 
-lbm::SolverConfig bench_config(const BenchOptions& o) {
+lbm::SolverConfig kernel_config(const BenchOptions& o) {
   lbm::SolverConfig c;
   c.lattice = lbm::parse_lattice(o.lattice, "--lattice");
   c.collision = lbm::parse_collision(o.collision, "--collision");
@@ -69,81 +83,43 @@ void prepare(lbm::Solver& solver) {
       for (int x = lo; x < hi; ++x) solver.add_force(x, y, z, Eigen::Vector3d(1e-6, -1e-6, 2e-6));
 }
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+double mlups(double cells, double steps, double seconds) { return cells * steps / seconds * 1e-6; }
+double gbs(double mlups, double bytes_per_cell_update) { return mlups * 1e6 * bytes_per_cell_update * 1e-9; }
 
-struct RoundTimes {
-  double seconds = 0.0;                    ///< the whole round
-  std::array<double, 2> parity_seconds{};  ///< its even and its odd AA steps
-};
+// Whole even/odd pairs, so that both AA kernels count equally.
+int even_steps(int steps) { return steps + (steps % 2); }
 
-// `steps` kernel steps, each timed and booked to its AA parity as well.
-RoundTimes time_round(lbm::Solver& solver, int steps) {
-  RoundTimes t;
-  const double start = omp_get_wtime();
-  for (int s = 0; s < steps; ++s) {
-    const auto parity = static_cast<std::size_t>(solver.step_count() & 1);
-    const double step_start = omp_get_wtime();
-    solver.step();
-    t.parity_seconds[parity] += omp_get_wtime() - step_start;
-  }
-  t.seconds = omp_get_wtime() - start;
-  return t;
-}
-
-nlohmann::json run_bench(const BenchOptions& o) {
-  check(o);
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-  const lbm::SolverConfig config = bench_config(o);
-
+nlohmann::json run_kernel_bench(const BenchOptions& o) {
+  const lbm::SolverConfig config = kernel_config(o);
   fmt::print(stderr, "settle bench: {} {} {} on {}^3, {} rounds of {} steps and a bandwidth probe, {} threads\n",
              o.lattice, o.collision, o.precision, o.size, o.rounds, o.steps, omp_get_max_threads());
   auto solver = lbm::make_solver(config);
   prepare(*solver);
-  // Two untimed steps (one of each AA parity) fault the pages in and warm the caches.
-  solver->run(2);
-  const int steps = o.steps + (o.steps % 2);  // whole even/odd pairs, so both kernels count equally
-
-  // The memory bandwidth of a virtual machine drifts with its neighbours' load (on the
-  // development machine single probe sweeps ranged from 41 to 131 GB/s within minutes, and the
-  // host switched between its fast and slow modes inside one run), so every kernel round is
-  // bracketed by a probe before and after it (rounds + 1 probes) and its fraction is taken
-  // against the mean of the two. The reported fraction is the median over the rounds whose two
-  // probes agree within 10% (the bandwidth held still; over all rounds if none did): comparing
-  // separate medians of MLUPS and bandwidth mixed rounds from different modes. The probe keeps
-  // the best of 3 sweeps, which favours the probe, not the kernel.
-  const auto probe = [&] {
-    return measure_inplace_bandwidth(static_cast<std::size_t>(o.probe_gib * 1073741824.0), 3).bandwidth_gbs;
-  };
+  solver->run(2);  // one step of each AA parity faults the pages in and warms the caches
+  const int steps = even_steps(o.steps);
   const double cells = static_cast<double>(solver->cell_count());
   const double bytes = static_cast<double>(solver->bytes_per_cell_update());
-  std::vector<double> round_seconds, round_mlups, round_bandwidth{probe()}, round_fraction, steady_fraction;
   // The two AA kernels are timed apart as well: the even step touches only each cell's own
   // slots, the odd step its neighbours' (lbm/aa_solver.hpp), so their difference is the cost of
   // the neighbour access pattern.
-  std::vector<double> parity_mlups[2];
-  for (int round = 0; round < o.rounds; ++round) {
-    const RoundTimes times = time_round(*solver, steps);
-    round_seconds.push_back(times.seconds);
-    for (std::size_t p = 0; p < 2; ++p) parity_mlups[p].push_back(cells * (steps / 2) / times.parity_seconds[p] * 1e-6);
-    round_bandwidth.push_back(probe());
-    round_mlups.push_back(cells * steps / round_seconds.back() * 1e-6);
-    const double bracket_gbs = 0.5 * (round_bandwidth[round] + round_bandwidth[round + 1]);
-    round_fraction.push_back(round_mlups.back() * 1e6 * bytes * 1e-9 / bracket_gbs);
-    if (std::abs(round_bandwidth[round + 1] - round_bandwidth[round]) <= 0.1 * bracket_gbs)
-      steady_fraction.push_back(round_fraction.back());
-    fmt::print(stderr, "  round {}: {:.1f} MLUPS (even steps {:.1f}, odd {:.1f}), probes {:.1f} / {:.1f} GB/s, fraction {:.3f}\n",
-               round + 1, round_mlups.back(), parity_mlups[0].back(), parity_mlups[1].back(), round_bandwidth[round],
-               round_bandwidth[round + 1], round_fraction.back());
-  }
+  std::vector<double> round_seconds, round_mlups, parity_mlups[2];
+  const BracketedRounds bracket = run_bracketed_rounds(o.rounds, o.probe_gib, [&](int) {
+    std::array<double, 2> parity_seconds{};
+    const double start = omp_get_wtime();
+    for (int s = 0; s < steps; ++s) {
+      const auto parity = static_cast<std::size_t>(solver->step_count() & 1);
+      const double step_start = omp_get_wtime();
+      solver->step();
+      parity_seconds[parity] += omp_get_wtime() - step_start;
+    }
+    round_seconds.push_back(omp_get_wtime() - start);
+    round_mlups.push_back(mlups(cells, steps, round_seconds.back()));
+    for (std::size_t p = 0; p < 2; ++p) parity_mlups[p].push_back(mlups(cells, steps / 2, parity_seconds[p]));
+    return RoundResult{gbs(round_mlups.back(), bytes),
+                       fmt::format("{:.1f} MLUPS (even steps {:.1f}, odd {:.1f})", round_mlups.back(),
+                                   parity_mlups[0].back(), parity_mlups[1].back())};
+  });
   const double seconds = median(round_seconds);
-  const double bandwidth_gbs = median(round_bandwidth);
-  const double mlups = cells * steps / seconds * 1e-6;
-  const double achieved_gbs = mlups * 1e6 * bytes * 1e-9;
-  const BuildInfo build = build_info();
 
   nlohmann::json j;
   j["lattice"] = lbm::to_string(config.lattice);
@@ -154,31 +130,113 @@ nlohmann::json run_bench(const BenchOptions& o) {
   j["steps"] = steps;
   j["threads"] = omp_get_max_threads();
   j["seconds"] = seconds;
-  j["mlups"] = mlups;
+  j["mlups"] = mlups(cells, steps, seconds);
   j["bytes_per_cell_update"] = solver->bytes_per_cell_update();
-  j["achieved_gbs"] = achieved_gbs;
-  j["bandwidth_gbs"] = bandwidth_gbs;
+  j["achieved_gbs"] = gbs(j["mlups"].get<double>(), bytes);
   j["rounds"] = o.rounds;
-  j["bandwidth_probe"] = {{"kind", "in-place read-modify-write x = a x + b, best of 3 sweeps per probe"},
-                          {"array_bytes", o.probe_gib * 1073741824.0},
-                          {"bandwidth_gbs_before_and_after_rounds", round_bandwidth}};
   j["mlups_per_round"] = round_mlups;
   j["even_step_mlups"] = median(parity_mlups[0]);
   j["odd_step_mlups"] = median(parity_mlups[1]);
-  j["roofline_fraction_per_round"] = round_fraction;
-  // Median of the bracketed per-round fractions (see above), not achieved_gbs / bandwidth_gbs.
-  j["steady_rounds"] = steady_fraction.size();
-  j["roofline_fraction"] = median(steady_fraction.empty() ? round_fraction : steady_fraction);
-  if (steady_fraction.empty())
-    j["warning_bandwidth"] = "the bandwidth changed by more than 10% across every round: the fraction is uncertain";
-  j["build"] = {{"version", build.version},
-                {"compiler", build.compiler},
-                {"build_type", build.build_type},
-                {"native_cpu", build.native_cpu},
-                {"sanitizers", build.sanitizers}};
-  if (!build.native_cpu)
-    j["warning"] = "built without -march=native (use the `native` preset for benchmark figures)";
+  add_roofline(j, bracket, o.probe_gib);  // the median of the bracketed fractions, not achieved / median bandwidth
   return j;
+}
+
+// The case as `settle run` would build it, checked by the same preflight (nothing is written).
+coupling::SimulationSetup case_setup(const BenchOptions& o) {
+  const fs::path path = o.case_file;
+  const io::CaseValues values = io::load_case(path, o.overrides);
+  const fs::path base = o.default_case ? fs::current_path() : fs::absolute(path).parent_path();
+  coupling::SimulationSetup setup = io::simulation_setup(values, base, o.default_case ? "default" : path.stem().string());
+  io::preflight(setup, io::PreflightOptions{});
+  return setup;
+}
+
+std::map<std::string, double> timer_seconds(const coupling::SubstepTimers& timers) {
+  std::map<std::string, double> seconds;
+  for (const auto& [name, total] : timers.entries()) seconds[name] = total;
+  return seconds;
+}
+
+void step_or_refuse(coupling::Simulation& sim, const BenchOptions& o) {
+  if (!sim.can_step())
+    throw InputError(fmt::format("--steps: the body reached the edge of the grid after {} steps of {}; bench fewer steps",
+                                 sim.steps(), case_name(o)));
+  sim.step();
+}
+
+// The sub-steps in step order with their seconds per step and their share of the rounds' wall time;
+// what the timers do not cover (the loop, the timers themselves) is `outside_substeps`.
+nlohmann::json substep_shares(const coupling::SubstepTimers& timers, const std::map<std::string, double>& before,
+                              double wall_seconds, int steps) {
+  nlohmann::json list = nlohmann::json::array();
+  double timed = 0.0;
+  for (const auto& [name, total] : timers.entries()) {
+    const auto earlier = before.find(name);
+    const double seconds = total - (earlier == before.end() ? 0.0 : earlier->second);
+    timed += seconds;
+    list.push_back({{"name", name}, {"seconds_per_step", seconds / steps}, {"share", seconds / wall_seconds}});
+  }
+  list.push_back({{"name", "outside_substeps"},
+                  {"seconds_per_step", (wall_seconds - timed) / steps},
+                  {"share", (wall_seconds - timed) / wall_seconds}});
+  return list;
+}
+
+nlohmann::json run_case_bench(const BenchOptions& o) {
+  coupling::Simulation sim(case_setup(o));
+  const auto& cells = sim.derived().cells;
+  const double cell_count = static_cast<double>(sim.fluid().cell_count());
+  const double bytes = static_cast<double>(sim.fluid().bytes_per_cell_update());
+  const int steps = even_steps(o.steps);
+  fmt::print(stderr, "settle bench --case {}: {}x{}x{} cells, {}, {} rounds of {} coupled steps and a bandwidth probe, {} threads\n",
+             case_name(o), cells[0], cells[1], cells[2], coupling::to_string(sim.setup().coupling), o.rounds, steps,
+             omp_get_max_threads());
+  for (int s = 0; s < 2; ++s) step_or_refuse(sim, o);  // faults the pages in, starts the wake
+  const std::map<std::string, double> before = timer_seconds(sim.timers());
+  std::vector<double> round_seconds, round_mlups;
+  double wall_seconds = 0.0;
+  const BracketedRounds bracket = run_bracketed_rounds(o.rounds, o.probe_gib, [&](int) {
+    const double fluid_before = timer_seconds(sim.timers())["fluid"];
+    const double start = omp_get_wtime();
+    for (int s = 0; s < steps; ++s) step_or_refuse(sim, o);
+    round_seconds.push_back(omp_get_wtime() - start);
+    wall_seconds += round_seconds.back();
+    round_mlups.push_back(mlups(cell_count, steps, round_seconds.back()));
+    const double fluid_mlups = mlups(cell_count, steps, timer_seconds(sim.timers())["fluid"] - fluid_before);
+    return RoundResult{gbs(fluid_mlups, bytes),
+                       fmt::format("{:.1f} MLUPS coupled, fluid sub-step {:.1f}", round_mlups.back(), fluid_mlups)};
+  });
+  const int timed_steps = steps * o.rounds;
+  const double fluid_seconds = timer_seconds(sim.timers())["fluid"] - before.at("fluid");
+
+  nlohmann::json j;
+  j["case"] = case_name(o);
+  j["overrides"] = o.overrides;
+  j["cells"] = cells;
+  j["cell_count"] = sim.fluid().cell_count();
+  j["coupling"] = coupling::to_string(sim.setup().coupling);
+  j["lattice"] = lbm::to_string(sim.setup().lattice);
+  j["collision"] = lbm::to_string(sim.setup().collision);
+  j["precision"] = lbm::to_string(sim.setup().precision);
+  j["threads"] = omp_get_max_threads();
+  j["steps"] = steps;
+  j["rounds"] = o.rounds;
+  j["seconds_per_step"] = median(round_seconds) / steps;
+  j["mlups"] = mlups(cell_count, steps, median(round_seconds));
+  j["mlups_per_round"] = round_mlups;
+  j["fluid_mlups"] = mlups(cell_count, timed_steps, fluid_seconds);
+  j["non_fluid_share"] = 1.0 - fluid_seconds / wall_seconds;
+  j["substeps"] = substep_shares(sim.timers(), before, wall_seconds, timed_steps);
+  j["bytes_per_cell_update"] = sim.fluid().bytes_per_cell_update();
+  j["fluid_achieved_gbs"] = gbs(j["fluid_mlups"].get<double>(), bytes);
+  add_roofline(j, bracket, o.probe_gib);  // of the fluid sub-step
+  return j;
+}
+
+nlohmann::json run_bench(const BenchOptions& o) {
+  check(o);
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  return coupled(o) ? run_case_bench(o) : run_kernel_bench(o);
 }
 
 }  // namespace
@@ -187,17 +245,28 @@ void add_bench_command(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand(
       "bench",
-      "Fluid-kernel throughput (MLUPS) on a periodic N^3 box with the per-cell force array in use, and the "
-      "fraction of this machine's memory bandwidth it reaches (measured in the same run by an in-place "
-      "read-modify-write probe). Prints JSON.");
-  cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27")->capture_default_str();
-  cmd->add_option("--collision", options->collision, "bgk, trt or recursive_regularized")->capture_default_str();
-  cmd->add_option("--precision", options->precision, "storage precision: double or float")->capture_default_str();
-  cmd->add_option("--size", options->size, "cells per edge N of the periodic box")->capture_default_str();
-  cmd->add_option("--steps", options->steps, "timed steps (rounded up to even)")->capture_default_str();
+      "Fluid-kernel throughput (MLUPS) on a periodic N^3 box with the per-cell force array in use, or with --case "
+      "the coupled step of a case (MLUPS, each sub-step's share); and the fraction of this machine's memory "
+      "bandwidth the fluid kernel reaches (measured in the same run by an in-place read-modify-write probe). "
+      "Prints JSON.");
+  CLI::Option* case_option =
+      cmd->add_option("--case", options->case_file, "time this case's coupled step (no output is written)");
+  CLI::Option* default_case_flag =
+      cmd->add_flag("--default-case", options->default_case, "time the coupled step of the case `settle run` runs without a file")
+          ->excludes(case_option);
+  cmd->add_option("--set", options->overrides, "with --case: override a case key, e.g. --set numerics.cells_per_diameter=24");
+  cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27")->capture_default_str()->excludes(case_option)->excludes(default_case_flag);
+  cmd->add_option("--collision", options->collision, "bgk, trt or recursive_regularized")
+      ->capture_default_str()
+      ->excludes(case_option)->excludes(default_case_flag);
+  cmd->add_option("--precision", options->precision, "storage precision: double or float")
+      ->capture_default_str()
+      ->excludes(case_option)->excludes(default_case_flag);
+  cmd->add_option("--size", options->size, "cells per edge N of the periodic box")->capture_default_str()->excludes(case_option)->excludes(default_case_flag);
+  cmd->add_option("--steps", options->steps, "timed steps per round (rounded up to even)")->capture_default_str();
   cmd->add_option("--threads", options->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
       ->capture_default_str();
-  cmd->add_option("--rounds", options->rounds, "kernel rounds, each between two bandwidth probes; the median of the per-round fractions is reported")
+  cmd->add_option("--rounds", options->rounds, "rounds, each between two bandwidth probes; the median of the per-round fractions is reported")
       ->capture_default_str();
   cmd->add_option("--probe-gib", options->probe_gib, "size of the bandwidth probe's array in GiB")
       ->capture_default_str();

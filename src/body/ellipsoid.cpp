@@ -139,6 +139,21 @@ double Ellipsoid::signed_distance(const Eigen::Vector3d& p) const {
   return contains(p) ? -distance : distance;
 }
 
+// In coordinates scaled by the semi-axes the surface is the unit sphere and the segment
+// a + t (b - a) meets it where |A + t V|^2 = 1, a quadratic in t. With a outside and b inside,
+// the crossing is its smaller root, written as c / q (c = |A|^2 - 1, q the larger root times |V|^2)
+// so that it keeps its precision when a lies next to the surface.
+double Ellipsoid::surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const {
+  const Eigen::Vector3d a = outside.cwiseQuotient(semi_axes_);
+  const Eigen::Vector3d v = (inside - outside).cwiseQuotient(semi_axes_);
+  const double c = a.squaredNorm() - 1.0;
+  if (!(c > 0.0)) return 0.0;
+  if (!contains(inside)) return 1.0;
+  const double half_b = a.dot(v);
+  const double discriminant = std::max(0.0, half_b * half_b - v.squaredNorm() * c);
+  return std::clamp(c / (std::sqrt(discriminant) - half_b), 0.0, 1.0);
+}
+
 Eigen::Vector3d Ellipsoid::outward_normal(const Eigen::Vector3d& surface_point) const {
   return surface_point.cwiseQuotient(semi_axes_.cwiseProduct(semi_axes_)).normalized();
 }

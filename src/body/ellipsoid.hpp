@@ -29,6 +29,8 @@ class Ellipsoid final : public Shape {
   double signed_distance(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;
+  /// Closed form: the smaller root of a quadratic in the semi-axes' scaled coordinates.
+  double surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const override;
   double bounding_radius() const override { return semi_axes_.maxCoeff(); }
   Aabb bounding_box() const override { return {-semi_axes_, semi_axes_}; }
   /// h(n) = |diag(a, b, c) n|.

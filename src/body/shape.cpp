@@ -24,6 +24,34 @@ MassProperties Shape::mass_properties(double density) const {
 
 double Shape::equivalent_diameter() const { return std::cbrt(6.0 * volume() / std::numbers::pi); }
 
+// Regula falsi with the Illinois modification: superlinear, and it never leaves the bracket.
+double Shape::surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const {
+  const Eigen::Vector3d along = inside - outside;
+  const auto phi = [&](double t) { return signed_distance(outside + t * along); };
+  double t0 = 0.0, t1 = 1.0, f0 = phi(0.0), f1 = phi(1.0);
+  // The inside test and the signed distance may disagree by round-off at the surface itself.
+  if (!(f0 > 0.0)) return 0.0;
+  if (!(f1 < 0.0)) return 1.0;
+  // A billionth of the segment: far below any effect on the interpolated bounce-back's weights.
+  const double tolerance = 1e-9 * along.norm();
+  int last_side = 0;
+  for (int iteration = 0; iteration < 40; ++iteration) {
+    const double t = t0 + f0 * (t1 - t0) / (f0 - f1);
+    const double f = phi(t);
+    if (std::abs(f) < tolerance || t1 - t0 < 1e-12) return t;
+    if (f > 0.0) {
+      t0 = t, f0 = f;
+      if (last_side == 1) f1 *= 0.5;
+      last_side = 1;
+    } else {
+      t1 = t, f1 = f;
+      if (last_side == -1) f0 *= 0.5;
+      last_side = -1;
+    }
+  }
+  return 0.5 * (t0 + t1);
+}
+
 double Shape::width(const Eigen::Vector3d& direction) const { return support(direction) + support(-direction); }
 
 void validate_marker_spacing(double spacing, double surface_area, const char* what) {

@@ -56,6 +56,11 @@ class Shape {
   virtual Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const = 0;
   /// Unit outward normal at a surface point (at edges and corners: one valid choice).
   virtual Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const = 0;
+  /// Where the segment from `outside` to `inside` meets the surface, as the fraction t in [0, 1]
+  /// of the way (0 when `outside` is not outside, 1 when `inside` is not inside). The default
+  /// finds the root of signed_distance along the segment (a lattice link of the momentum exchange,
+  /// short against the body: one crossing); shapes with a closed form override it.
+  virtual double surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const;
 
   /// Largest distance of a body point from the centroid.
   virtual double bounding_radius() const = 0;

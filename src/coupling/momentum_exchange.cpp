@@ -1,5 +1,6 @@
 #include "coupling/momentum_exchange.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <unordered_set>
@@ -7,34 +8,6 @@
 
 namespace settle::coupling {
 namespace {
-
-/// Where the link from x (outside the body) along d (to a point inside) meets the surface: the
-/// fraction t in (0, 1] with phi(x + t d) = 0, phi the signed distance in cells, by regula falsi
-/// with the Illinois modification (superlinear, and never leaves the bracket).
-template <class SignedDistance>
-double crossing_fraction(const SignedDistance& phi) {
-  double t0 = 0.0, t1 = 1.0, f0 = phi(0.0), f1 = phi(1.0);
-  // The inside test and the signed distance may disagree by round-off at the surface itself.
-  if (!(f0 > 0.0)) return 1e-6;
-  if (!(f1 < 0.0)) return 1.0;
-  int last_side = 0;
-  for (int iteration = 0; iteration < 40; ++iteration) {
-    const double t = t0 + f0 * (t1 - t0) / (f0 - f1);
-    const double f = phi(t);
-    // 1e-9 cells: far below any effect on the interpolation weights.
-    if (std::abs(f) < 1e-9 || t1 - t0 < 1e-12) return std::clamp(t, 1e-6, 1.0);
-    if (f > 0.0) {
-      t0 = t, f0 = f;
-      if (last_side == 1) f1 *= 0.5;
-      last_side = 1;
-    } else {
-      t1 = t, f1 = f;
-      if (last_side == -1) f0 *= 0.5;
-      last_side = -1;
-    }
-  }
-  return std::clamp(0.5 * (t0 + t1), 1e-6, 1.0);
-}
 
 /// Interior cell index with periodic axes wrapped, or nullopt outside a non-periodic axis.
 std::optional<std::size_t> wrapped_index(const lbm::Solver& fluid, const std::array<int, 3>& c) {
@@ -86,7 +59,8 @@ BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box,
           if (ni < 0 || nj < 0 || nk < 0 || ni >= box.extent[0] || nj >= box.extent[1] || nk >= box.extent[2]) continue;
           if (!inside[at(ni, nj, nk)]) continue;
           const Eigen::Vector3d d(c[0], c[1], c[2]);
-          const double q = crossing_fraction([&](double t) { return shape.signed_distance(body_point(x + t * d)) / dx_si; });
+          // The lattice takes q in (0, 1]: a link whose fluid end lies on the surface (round-off) gets 1e-6.
+          const double q = std::clamp(shape.surface_crossing(body_point(x), body_point(x + d)), 1e-6, 1.0);
           const Eigen::Vector3d wall = x + q * d;
           walls.obstacle.links.push_back({{box.origin[0] + i, box.origin[1] + j, box.origin[2] + k},
                                           static_cast<int>(dir), q, pose.velocity_at(wall)});

@@ -31,6 +31,18 @@ TEST(Cuboid, VolumeAreaInertia) {
   EXPECT_NEAR(box.bounding_radius(), 0.5 * std::sqrt(14.0), kClosedForm);
 }
 
+// The generic crossing (a root of signed_distance along the segment, the base class's) on a face
+// of a box, where the closed form is the face's plane: x = 1.5 on the +x face of a 3 x 2 x 1 box.
+// The root-finder stops within a billionth of the segment; the distance is linear along it, so
+// the first secant step is already the root to round-off.
+TEST(Cuboid, SurfaceCrossingOfALinkThroughAFaceIsOnThePlane) {
+  const Cuboid box(Eigen::Vector3d(3.0, 2.0, 1.0));
+  const Eigen::Vector3d outside(1.8, 0.2, -0.1), link(-0.7, 0.3, 0.2);
+  const double t = box.surface_crossing(outside, outside + link);
+  EXPECT_NEAR(t, 0.3 / 0.7, 1e-9);
+  EXPECT_NEAR(box.signed_distance(outside + t * link), 0.0, 1e-9 * link.norm());
+}
+
 TEST(Cuboid, ProjectedAreaAgreesWithScanlinesOfBoxMesh) {
   // The scanline measure of the box mesh's silhouette (an independent construction) is second
   // order in the row height: measured ~1e-8 with 4096 rows, 1e-6 allows for unlucky kinks.

@@ -199,6 +199,35 @@ TEST(Ellipsoid, SignedDistanceIsZeroOnSurfaceAndHasUnitGradient) {
   }
 }
 
+// The closed-form crossing of a segment with the surface agrees with the generic root-finder of
+// the base class (a second method, on signed_distance) and puts the point on the surface. Segments
+// are lattice links of length 1 to sqrt(3) in a body of 8-20 units, as the momentum exchange makes
+// them, from just outside to just inside, some nearly tangent. Tolerances: the root-finder stops at
+// a billionth of the segment; the closed form's point satisfies the surface equation to round-off.
+TEST(Ellipsoid, SurfaceCrossingMatchesTheRootFinderAndLiesOnTheSurface) {
+  const Eigen::Vector3d axes(10.0, 6.0, 4.0);
+  const Ellipsoid e(axes);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> fraction(0.02, 0.98);
+  int tested = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Eigen::Vector3d s = axes.cwiseProduct(random_unit(rng));
+    const Eigen::Vector3d link = random_unit(rng) * (1.0 + (std::sqrt(3.0) - 1.0) * fraction(rng));
+    const Eigen::Vector3d outside = s - fraction(rng) * link, inside = outside + link;
+    if (!(e.signed_distance(outside) > 0.0) || !e.contains(inside)) continue;
+    ++tested;
+    const double t = e.surface_crossing(outside, inside);
+    EXPECT_NEAR(t, e.Shape::surface_crossing(outside, inside), 1e-8);
+    EXPECT_NEAR((outside + t * link).cwiseQuotient(axes).norm(), 1.0, 1e-13);
+  }
+  EXPECT_GT(tested, 50);  // enough segments crossed the surface to mean something
+  // Ends on the wrong side: the contract's end values.
+  EXPECT_EQ(e.surface_crossing(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.0, 0.0)), 0.0);
+  EXPECT_EQ(e.surface_crossing(Eigen::Vector3d(20.0, 0.0, 0.0), Eigen::Vector3d(15.0, 0.0, 0.0)), 1.0);
+  // Along an axis the crossing is where the axis meets the surface.
+  EXPECT_NEAR(e.surface_crossing(Eigen::Vector3d(0.0, 0.0, 4.5), Eigen::Vector3d(0.0, 0.0, 3.5)), 0.5, 1e-14);
+}
+
 TEST(Ellipsoid, SupportAndBounds) {
   const Eigen::Vector3d axes(3.0, 2.0, 1.0);
   const Ellipsoid e(axes);
