@@ -55,7 +55,8 @@ void BM_MultiDirectForcing(benchmark::State& state) {
   const Eigen::Vector3d centre = Eigen::Vector3d::Constant(box / 2.0);
   for (int l = 0; l < n; ++l) {
     const double z = 1.0 - (2.0 * l + 1.0) / n, r = std::sqrt(1.0 - z * z);
-    markers.position.push_back(centre + radius * Eigen::Vector3d(r * std::cos(golden * l), r * std::sin(golden * l), z));
+    markers.position.push_back(centre +
+                               radius * Eigen::Vector3d(r * std::cos(golden * l), r * std::sin(golden * l), z));
     markers.target_velocity.push_back(Eigen::Vector3d::Zero());
     markers.volume.push_back(4.0 * std::numbers::pi * radius * radius / n);
   }
@@ -109,11 +110,14 @@ void BM_InplaceStreams(benchmark::State& state) {
     }
     benchmark::ClobberMemory();
   }
-  state.counters["bytes_per_s"] = benchmark::Counter(2.0 * static_cast<double>(rows * kRow * arrays * sizeof(double)),
-                                                     benchmark::Counter::kIsIterationInvariantRate,
-                                                     benchmark::Counter::kIs1000);
+  state.counters["bytes_per_s"] =
+      benchmark::Counter(2.0 * static_cast<double>(rows * kRow * arrays * sizeof(double)),
+                         benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1000);
 }
-BENCHMARK(BM_InplaceStreams)->ArgsProduct({{1, 4, 10, 11, 19, 22}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_InplaceStreams)
+    ->ArgsProduct({{1, 4, 10, 11, 19, 22}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The memory side of a candidate layout for the AA kernel (docs/lbm.md): AoSoA, each row
 // of x stored as blocks of 8 cells x 19 populations (1216 bytes, whole cache lines), rows after
@@ -130,7 +134,7 @@ void BM_AosoaStreams(benchmark::State& state) {
   const bool grouped = state.range(1) != 0;
   constexpr int kQ = 19, kLanes = 8, kNx = 256;
   constexpr std::size_t kHuge = std::size_t{2} << 20, kTotal = std::size_t{1} << 27;  // doubles, 1 GiB
-  constexpr std::size_t kRow = std::size_t{kNx} * kQ;  // doubles per row
+  constexpr std::size_t kRow = std::size_t{kNx} * kQ;                                 // doubles per row
   constexpr int kNy = 64;
   const int nz = static_cast<int>(kTotal / kRow / kNy);
   const std::size_t bytes = (kRow * kNy * nz * sizeof(double) + kHuge - 1) / kHuge * kHuge;
@@ -190,9 +194,9 @@ void BM_AosoaStreams(benchmark::State& state) {
     }
     benchmark::ClobberMemory();
   }
-  state.counters["bytes_per_s"] = benchmark::Counter(2.0 * static_cast<double>(kRow * kNy * nz * sizeof(double)),
-                                                     benchmark::Counter::kIsIterationInvariantRate,
-                                                     benchmark::Counter::kIs1000);
+  state.counters["bytes_per_s"] =
+      benchmark::Counter(2.0 * static_cast<double>(kRow * kNy * nz * sizeof(double)),
+                         benchmark::Counter::kIsIterationInvariantRate, benchmark::Counter::kIs1000);
 }
 BENCHMARK(BM_AosoaStreams)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test command of the README, and what CI runs (.ci/run): installs what is missing (Debian
 # packages) and runs three stages, each of which fails the whole command:
-#   release     build the release preset, run the unit and case tests (labels unit|case)
+#   release     check the layout of the C++ files (scripts/check_format.sh), build the release
+#               preset, run the unit and case tests (labels unit|case)
 #   sanitizers  build the debug preset (AddressSanitizer + UndefinedBehaviorSanitizer on the
 #               library and the front end) and run the unit and case tests but the `heavy` ones
 #               (scripts/run_sanitizer_tests.sh)
@@ -27,6 +28,7 @@ for stage in $stages; do
   case $stage in
     release)
       bash scripts/install-deps.sh
+      bash scripts/check_format.sh
       cmake --preset release >/dev/null
       cmake --build --preset release
       ctest --preset release

@@ -17,9 +17,12 @@ nlohmann::ordered_json vector_json(const Eigen::Vector3d& v) {
 
 std::string_view axis_kind_name(AxisKind kind) {
   switch (kind) {
-    case AxisKind::symmetry: return "symmetry";
-    case AxisKind::longest: return "longest";
-    case AxisKind::none: break;
+    case AxisKind::symmetry:
+      return "symmetry";
+    case AxisKind::longest:
+      return "longest";
+    case AxisKind::none:
+      break;
   }
   return "none";
 }

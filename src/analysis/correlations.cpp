@@ -65,8 +65,8 @@ double ganser_drag(double reynolds, double sphericity, double projected_to_volum
   const double k1 = ganser_stokes_factor(sphericity, projected_to_volume_diameter);
   const double k2 = ganser_newton_factor(sphericity);
   const double generalized = reynolds * k1 * k2;  // Ganser's Re K1 K2
-  return k2 * (24.0 / generalized * (1.0 + 0.1118 * std::pow(generalized, 0.6567)) +
-               0.4305 / (1.0 + 3305.0 / generalized));
+  return k2 *
+         (24.0 / generalized * (1.0 + 0.1118 * std::pow(generalized, 0.6567)) + 0.4305 / (1.0 + 3305.0 / generalized));
 }
 
 double holzer_sommerfeld_drag(double reynolds, double sphericity, double crosswise_sphericity,
@@ -135,7 +135,7 @@ double scaled_force_excess(const std::function<double(double)>& drag_coefficient
 }  // namespace
 
 ForceBalanceSolution solve_force_balance(const std::function<double(double)>& drag_coefficient,
-                                  const SettlingConditions& conditions) {
+                                         const SettlingConditions& conditions) {
   const double target = 4.0 / 3.0 * archimedes_number(conditions);
   const auto excess = [&](double reynolds) { return scaled_force_excess(drag_coefficient, reynolds, target); };
   ForceBalanceSolution state;
@@ -162,7 +162,8 @@ ForceBalanceSolution solve_force_balance(const std::function<double(double)>& dr
 
 double force_balance_residual(const ForceBalanceSolution& state, const SettlingConditions& c) {
   const double d = c.equivalent_diameter_si, u = state.terminal_velocity_si;
-  const double weight = std::abs(c.particle_density_si - c.fluid_density_si) * c.gravity_si * std::numbers::pi * d * d * d / 6.0;
+  const double weight =
+      std::abs(c.particle_density_si - c.fluid_density_si) * c.gravity_si * std::numbers::pi * d * d * d / 6.0;
   const double drag = 0.5 * c.fluid_density_si * u * u * state.drag_coefficient * std::numbers::pi * d * d / 4.0;
   return (drag - weight) / weight;
 }
@@ -171,9 +172,12 @@ double force_balance_residual(const ForceBalanceSolution& state, const SettlingC
 
 const char* orientation_name(Orientation orientation) {
   switch (orientation) {
-    case Orientation::initial: return "initial";
-    case Orientation::mean: return "mean";
-    case Orientation::broadside: break;
+    case Orientation::initial:
+      return "initial";
+    case Orientation::mean:
+      return "mean";
+    case Orientation::broadside:
+      break;
   }
   return "broadside";
 }
@@ -289,9 +293,10 @@ LawPrediction schiller_naumann(const SettlingConditions& c, const ParticleDescri
 }
 
 LawPrediction clift_grace_weber(const SettlingConditions& c, const ParticleDescriptors& d) {
-  LawPrediction p = make_prediction("clift_grace_weber", "Clift, Grace and Weber 1978, Bubbles, Drops, and Particles, Table 5.2",
-                                    "sphere (sphericity >= 0.99), Re <= 3.38e5",
-                                    solve_force_balance(clift_grace_weber_drag, c), {{"sphericity", d.sphericity}});
+  LawPrediction p =
+      make_prediction("clift_grace_weber", "Clift, Grace and Weber 1978, Bubbles, Drops, and Particles, Table 5.2",
+                      "sphere (sphericity >= 0.99), Re <= 3.38e5", solve_force_balance(clift_grace_weber_drag, c),
+                      {{"sphericity", d.sphericity}});
   Checks checks;
   checks.require(at_least(d.sphericity, kSphereLikeSphericity), sphere_problem(d.sphericity));
   checks.require(at_most(p.state.reynolds, 3.38e5), fmt::format("Re = {:.4g} > 3.38e5", p.state.reynolds));
@@ -329,11 +334,12 @@ LawPrediction ganser(const SettlingConditions& c, const ParticleDescriptors& d) 
 
 LawPrediction holzer_sommerfeld(const SettlingConditions& c, const ParticleDescriptors& d) {
   const double phi = d.sphericity, cross = d.crosswise_sphericity, length = d.lengthwise_sphericity;
-  LawPrediction p = make_prediction(
-      "holzer_sommerfeld", "Hoelzer and Sommerfeld 2008, Powder Technol. 184, 361-365, doi:10.1016/j.powtec.2007.08.021",
-      "Re <= 2e5 (subcritical)",
-      solve_force_balance([=](double re) { return holzer_sommerfeld_drag(re, phi, cross, length); }, c),
-      {{"sphericity", phi}, {"crosswise_sphericity", cross}, {"lengthwise_sphericity", length}});
+  LawPrediction p =
+      make_prediction("holzer_sommerfeld",
+                      "Hoelzer and Sommerfeld 2008, Powder Technol. 184, 361-365, doi:10.1016/j.powtec.2007.08.021",
+                      "Re <= 2e5 (subcritical)",
+                      solve_force_balance([=](double re) { return holzer_sommerfeld_drag(re, phi, cross, length); }, c),
+                      {{"sphericity", phi}, {"crosswise_sphericity", cross}, {"lengthwise_sphericity", length}});
   Checks checks;
   checks.require(at_most(p.state.reynolds, 2e5), fmt::format("Re = {:.4g} > 2e5", p.state.reynolds));
   conclude(p, checks, kNoBalance);
@@ -360,7 +366,8 @@ LawPrediction bagheri_bonadonna(const SettlingConditions& c, const ParticleDescr
        {"k_N", k.newton_correction}});
   Checks checks;
   checks.require(at_most(p.state.reynolds, 3e5), fmt::format("Re = {:.4g} > 3e5", p.state.reynolds));
-  checks.require(density_ratio > 1.0, fmt::format("rho_p/rho_f = {:.4g}: the data were falling particles", density_ratio));
+  checks.require(density_ratio > 1.0,
+                 fmt::format("rho_p/rho_f = {:.4g}: the data were falling particles", density_ratio));
   const std::string unsolved =
       std::isfinite(k.newton_correction)
           ? std::string(kNoBalance)
@@ -380,16 +387,17 @@ LawPrediction dietrich(const SettlingConditions& c, const ParticleDescriptors& d
     state.terminal_velocity_si = velocity_of_reynolds(state.reynolds, c);
     state.drag_coefficient = 4.0 / 3.0 * dstar / (state.reynolds * state.reynolds);
   }
-  LawPrediction p = make_prediction(
-      "dietrich", "Dietrich 1982, Water Resour. Res. 18(6), 1615-1626, doi:10.1029/WR018i006p01615",
-      "0.05 <= D* <= 5e9, Corey shape factor >= 0.2", state,
-      {{"corey_shape_factor", d.corey_shape_factor},
-       {"powers_roundness", d.powers_roundness},
-       {"dimensionless_diameter", dstar},
-       {"dimensionless_velocity", wstar}});
+  LawPrediction p =
+      make_prediction("dietrich", "Dietrich 1982, Water Resour. Res. 18(6), 1615-1626, doi:10.1029/WR018i006p01615",
+                      "0.05 <= D* <= 5e9, Corey shape factor >= 0.2", state,
+                      {{"corey_shape_factor", d.corey_shape_factor},
+                       {"powers_roundness", d.powers_roundness},
+                       {"dimensionless_diameter", dstar},
+                       {"dimensionless_velocity", wstar}});
   Checks checks;
   checks.require(at_least(dstar, 0.05) && at_most(dstar, 5e9), fmt::format("D* = {:.4g} outside [0.05, 5e9]", dstar));
-  checks.require(at_least(d.corey_shape_factor, 0.2), fmt::format("Corey shape factor {:.4g} < 0.2", d.corey_shape_factor));
+  checks.require(at_least(d.corey_shape_factor, 0.2),
+                 fmt::format("Corey shape factor {:.4g} < 0.2", d.corey_shape_factor));
   conclude(p, checks,
            fmt::format("Corey shape factor {:.4g} <= 0.15: R2 = log10(1 - (1 - CSF)/0.85) is undefined",
                        d.corey_shape_factor));
@@ -399,7 +407,7 @@ LawPrediction dietrich(const SettlingConditions& c, const ParticleDescriptors& d
 }  // namespace
 
 const std::vector<std::string>& law_names() {
-  static const std::vector<std::string> names{"schiller_naumann", "clift_grace_weber", "haider_levenspiel", "ganser",
+  static const std::vector<std::string> names{"schiller_naumann",  "clift_grace_weber", "haider_levenspiel", "ganser",
                                               "holzer_sommerfeld", "bagheri_bonadonna", "dietrich"};
   return names;
 }
@@ -417,13 +425,13 @@ std::vector<LawPrediction> predict_terminal_velocities(const ParticleDescriptors
   check(particle.density_si, "particle density");
   check(particle.equivalent_diameter_si, "equivalent diameter");
   if (particle.density_si == fluid_density_si) {
-    throw InputError(fmt::format("particle density equals fluid density ({} kg/m^3): no net weight, no terminal velocity",
-                                 fluid_density_si));
+    throw InputError(fmt::format(
+        "particle density equals fluid density ({} kg/m^3): no net weight, no terminal velocity", fluid_density_si));
   }
   const SettlingConditions c{fluid_density_si, dynamic_viscosity_si, gravity_si, particle.density_si,
                              particle.equivalent_diameter_si};
-  return {schiller_naumann(c, particle),  clift_grace_weber(c, particle), haider_levenspiel(c, particle),
-          ganser(c, particle),            holzer_sommerfeld(c, particle), bagheri_bonadonna(c, particle),
+  return {schiller_naumann(c, particle), clift_grace_weber(c, particle), haider_levenspiel(c, particle),
+          ganser(c, particle),           holzer_sommerfeld(c, particle), bagheri_bonadonna(c, particle),
           dietrich(c, particle)};
 }
 

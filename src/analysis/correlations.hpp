@@ -69,10 +69,10 @@ double holzer_sommerfeld_drag(double reynolds, double sphericity, double crosswi
 /// The shape corrections of Bagheri and Bonadonna (2016), Powder Technol. 301, 526-544,
 /// doi:10.1016/j.powtec.2016.06.015.
 struct BagheriBonadonnaFactors {
-  double stokes_form_factor = 1.0;   ///< F_S = f e^1.3 (d_v^3 / (L I S))
-  double newton_form_factor = 1.0;   ///< F_N = f^2 e (d_v^3 / (L I S))
-  double stokes_correction = 1.0;    ///< k_S = (F_S^(1/3) + F_S^(-1/3)) / 2
-  double newton_correction = 1.0;    ///< k_N = 10^(alpha2 (-log10 F_N)^beta2)
+  double stokes_form_factor = 1.0;  ///< F_S = f e^1.3 (d_v^3 / (L I S))
+  double newton_form_factor = 1.0;  ///< F_N = f^2 e (d_v^3 / (L I S))
+  double stokes_correction = 1.0;   ///< k_S = (F_S^(1/3) + F_S^(-1/3)) / 2
+  double newton_correction = 1.0;   ///< k_N = 10^(alpha2 (-log10 F_N)^beta2)
 };
 /// Shape corrections from flatness f = S/I, elongation e = I/L, the volume ratio
 /// d_v^3 / (L I S) and the density ratio rho_p / rho_f. k_N is undefined (NaN) for F_N > 1
@@ -121,7 +121,7 @@ inline constexpr double kMaxReynolds = 1e8;
 /// kMaxReynolds], until the bracket is a few ulp wide: robust for any law whose drag force
 /// C_D Re^2 changes sign once across the bracket (all laws here; it need not be smooth).
 ForceBalanceSolution solve_force_balance(const std::function<double(double)>& drag_coefficient,
-                                  const SettlingConditions& conditions);
+                                         const SettlingConditions& conditions);
 
 /// (drag - net weight) / net weight at a terminal state (0 at an exact balance).
 double force_balance_residual(const ForceBalanceSolution& state, const SettlingConditions& conditions);
@@ -150,9 +150,9 @@ struct ParticleDescriptors {
   double sphericity = 1.0;
   double crosswise_sphericity = 1.0;
   double lengthwise_sphericity = 1.0;
-  double flatness = 1.0;       ///< S / I
-  double elongation = 1.0;     ///< I / L
-  double volume_ratio = 1.0;   ///< d_v^3 / (L I S), 1 for ellipsoids
+  double flatness = 1.0;      ///< S / I
+  double elongation = 1.0;    ///< I / L
+  double volume_ratio = 1.0;  ///< d_v^3 / (L I S), 1 for ellipsoids
   double corey_shape_factor = 1.0;
   double powers_roundness = 6.0;
   Orientation orientation = Orientation::broadside;
@@ -173,7 +173,7 @@ struct LawPrediction {
   std::string range;     ///< validity range, as text
   ForceBalanceSolution state;
   bool in_range = false;
-  std::string reason;    ///< why not in range (empty when in range)
+  std::string reason;                                       ///< why not in range (empty when in range)
   std::vector<std::pair<std::string, double>> descriptors;  ///< the law's inputs, by name
 };
 

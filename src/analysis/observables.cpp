@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numbers>
 
-#include <Eigen/Eigenvalues>
 #include <fmt/core.h>
+#include <Eigen/Eigenvalues>
 
 #include "analysis/regime_evidence.hpp"
 #include "body/cylinder.hpp"
@@ -353,9 +353,10 @@ void sampling_warning(const SettlingSeries& series, Analysis& a) {
   if (a.terminal.reached || !(a.criteria.response_time_si > 0.0)) return;
   const bool long_enough = series.t_si.back() - series.t_si.front() >= 2.0 * a.criteria.window_si();
   if (!long_enough || a.terminal.samples_per_window >= a.criteria.min_samples_per_window) return;
-  a.warnings.push_back(fmt::format("the output has at most {} samples per terminal-state window (< {}): the criterion "
-                                   "could not be judged; write samples more often (run.output_interval)",
-                                   a.terminal.samples_per_window, a.criteria.min_samples_per_window));
+  a.warnings.push_back(
+      fmt::format("the output has at most {} samples per terminal-state window (< {}): the criterion "
+                  "could not be judged; write samples more often (run.output_interval)",
+                  a.terminal.samples_per_window, a.criteria.min_samples_per_window));
 }
 
 void choose_window(const SettlingSeries& series, Analysis& a) {
@@ -409,8 +410,8 @@ ParticleProperties particle_properties(std::shared_ptr<const body::Shape> shape,
 }
 
 ParticleProperties particle_properties(const coupling::SimulationSetup& setup) {
-  return particle_properties(setup.shape, setup.particle_density_si, setup.fluid_density_si,
-                             setup.dynamic_viscosity_si, setup.gravity_si);
+  return particle_properties(setup.shape, setup.particle_density_si, setup.fluid_density_si, setup.dynamic_viscosity_si,
+                             setup.gravity_si);
 }
 
 Analysis analyse(const SettlingSeries& series, const ParticleProperties& properties, const AnalysisOptions& options) {

@@ -99,18 +99,18 @@ TerminalCriteria terminal_criteria(const ParticleProperties& properties, const A
 /// Everything the analysis finds (docs/analysis.md for each definition).
 struct Analysis {
   // Terminal state and the averaging window.
-  TerminalCriteria criteria;       ///< response_time_si = 0 when there is no net weight
+  TerminalCriteria criteria;  ///< response_time_si = 0 when there is no net weight
   TerminalState terminal;
-  bool averaged_over_terminal_window = false;  ///< else over the second half
+  bool averaged_over_terminal_window = false;         ///< else over the second half
   double window_start_si = 0.0, window_end_si = 0.0;  ///< first and last averaged sample
   std::size_t window_samples = 0;
 
   // Velocity and path.
   Eigen::Vector3d mean_velocity_si = Eigen::Vector3d::Zero();
-  double terminal_speed_si = 0.0;     ///< |mean velocity|
-  double vertical_velocity_si = 0.0;  ///< mean velocity along g (> 0 sinking)
-  double lateral_drift_speed_si = 0.0;  ///< |mean horizontal velocity|
-  double path_angle_deg = 0.0;          ///< mean velocity from the vertical line, [0, 90]
+  double terminal_speed_si = 0.0;        ///< |mean velocity|
+  double vertical_velocity_si = 0.0;     ///< mean velocity along g (> 0 sinking)
+  double lateral_drift_speed_si = 0.0;   ///< |mean horizontal velocity|
+  double path_angle_deg = 0.0;           ///< mean velocity from the vertical line, [0, 90]
   double lateral_displacement_si = 0.0;  ///< horizontal distance moved over the window
   /// Time from the first sample at which the velocity along g first reaches 95% of the terminal
   /// vertical velocity (linear interpolation between samples): Mordant and Pinton's t_95. Empty
@@ -118,15 +118,15 @@ struct Analysis {
   std::optional<double> time_to_95_percent_si;
 
   // Dimensionless groups.
-  double reynolds = 0.0;       ///< |U| d_eq / nu
-  double galileo = 0.0;        ///< sqrt(|rho_p/rho_f - 1| g d_eq^3) / nu
-  double archimedes = 0.0;     ///< Ga^2
-  double stokes_number = 0.0;  ///< rho_p |U| d_eq / (9 mu) (ten Cate et al. 2002)
-  double density_ratio = 0.0;  ///< rho_p / rho_f
+  double reynolds = 0.0;                        ///< |U| d_eq / nu
+  double galileo = 0.0;                         ///< sqrt(|rho_p/rho_f - 1| g d_eq^3) / nu
+  double archimedes = 0.0;                      ///< Ga^2
+  double stokes_number = 0.0;                   ///< rho_p |U| d_eq / (9 mu) (ten Cate et al. 2002)
+  double density_ratio = 0.0;                   ///< rho_p / rho_f
   std::optional<double> dimensionless_inertia;  ///< Field et al. 1997, disks only
 
   // Drag.
-  double drag_coefficient = 0.0;  ///< net weight along the mean motion / (rho U^2 / 2 pi d_eq^2 / 4)
+  double drag_coefficient = 0.0;             ///< net weight along the mean motion / (rho U^2 / 2 pi d_eq^2 / 4)
   double drag_coefficient_from_force = 0.0;  ///< mean hydrodynamic force against the mean motion, same scale
   std::optional<double> projected_area_si;   ///< mean shadow along the mean motion
   std::optional<double> drag_coefficient_projected_area;  ///< drag_coefficient on projected_area_si
@@ -144,7 +144,7 @@ struct Analysis {
 
   // Tilt of the body axis (when the body has one).
   BodyAxis axis;
-  double tilt_mean_deg = 0.0;       ///< time mean of the angle between the axis line and the vertical
+  double tilt_mean_deg = 0.0;  ///< time mean of the angle between the axis line and the vertical
   /// Angle of the mean axis direction from the vertical, and sqrt(2) x rms of the axis' signed
   /// deviation from that mean axis in the plane it swings in. Undefined (empty) without an axis
   /// and for a tumbling body, whose axis has no mean direction to oscillate about.
@@ -157,8 +157,8 @@ struct Analysis {
 
   // Rotation.
   Eigen::Vector3d mean_body_rotation_rate_si = Eigen::Vector3d::Zero();  ///< rad/s, body axes
-  double axis_net_rotation = 0.0;        ///< rad, the axis' net turn about its mean rotation axis
-  double axis_rotation_rate_si = 0.0;    ///< rad/s, net turn / window duration
+  double axis_net_rotation = 0.0;      ///< rad, the axis' net turn about its mean rotation axis
+  double axis_rotation_rate_si = 0.0;  ///< rad/s, net turn / window duration
   double axis_rotation_monotonicity = 0.0;
   double axis_rotation_elevation_deg = 90.0;
 

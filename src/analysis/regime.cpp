@@ -23,9 +23,10 @@ bool tilt_is_steady(const RegimeEvidence& e, const RegimeThresholds& th) {
 }
 
 RegimeResult steady(const RegimeEvidence& e, const RegimeThresholds& th) {
-  const std::string numbers = fmt::format("lateral amplitude {:.3g}% of the speed, tilt amplitude {:.3g} deg, path "
-                                          "{:.3g} deg from vertical",
-                                          100.0 * e.lateral_amplitude_ratio, e.tilt_amplitude_deg, e.path_angle_deg);
+  const std::string numbers = fmt::format(
+      "lateral amplitude {:.3g}% of the speed, tilt amplitude {:.3g} deg, path "
+      "{:.3g} deg from vertical",
+      100.0 * e.lateral_amplitude_ratio, e.tilt_amplitude_deg, e.path_angle_deg);
   if (e.path_angle_deg >= th.oblique_path_angle_deg) return {Regime::steady_oblique, "steady, oblique: " + numbers};
   return {Regime::steady_vertical, "steady, vertical: " + numbers};
 }
@@ -42,9 +43,8 @@ RegimeResult periodic(const RegimeEvidence& e, const RegimeThresholds& th) {
                         "{:.3g}, drift {:.3g} of the speed)",
                         planar, e.path_angle_deg, lateral_amplitude, e.lateral_drift_ratio)};
   if (e.has_axis && e.tilt_amplitude_deg >= th.flutter_min_tilt_amplitude_deg)
-    return {Regime::fluttering,
-            fmt::format("{} with a tilt amplitude of {:.3g} deg (>= {:.3g})", planar, e.tilt_amplitude_deg,
-                        th.flutter_min_tilt_amplitude_deg)};
+    return {Regime::fluttering, fmt::format("{} with a tilt amplitude of {:.3g} deg (>= {:.3g})", planar,
+                                            e.tilt_amplitude_deg, th.flutter_min_tilt_amplitude_deg)};
   return {Regime::zigzag, e.has_axis ? fmt::format("{} with a tilt amplitude of {:.3g} deg (< {:.3g})", planar,
                                                    e.tilt_amplitude_deg, th.flutter_min_tilt_amplitude_deg)
                                      : planar};
@@ -79,15 +79,24 @@ RegimeResult unsteady(const RegimeEvidence& e, const RegimeThresholds& th) {
 
 std::string_view regime_name(Regime regime) {
   switch (regime) {
-    case Regime::steady_vertical: return "steady_vertical";
-    case Regime::steady_oblique: return "steady_oblique";
-    case Regime::oblique_oscillating: return "oblique_oscillating";
-    case Regime::zigzag: return "zigzag";
-    case Regime::fluttering: return "fluttering";
-    case Regime::tumbling: return "tumbling";
-    case Regime::spiral: return "spiral";
-    case Regime::chaotic: return "chaotic";
-    case Regime::not_classified: break;
+    case Regime::steady_vertical:
+      return "steady_vertical";
+    case Regime::steady_oblique:
+      return "steady_oblique";
+    case Regime::oblique_oscillating:
+      return "oblique_oscillating";
+    case Regime::zigzag:
+      return "zigzag";
+    case Regime::fluttering:
+      return "fluttering";
+    case Regime::tumbling:
+      return "tumbling";
+    case Regime::spiral:
+      return "spiral";
+    case Regime::chaotic:
+      return "chaotic";
+    case Regime::not_classified:
+      break;
   }
   return "not classified";
 }

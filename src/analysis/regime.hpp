@@ -62,17 +62,17 @@ std::string_view regime_name(Regime regime);
 
 /// The thresholds of the rules (file comment), with their defaults.
 struct RegimeThresholds {
-  double steady_lateral_amplitude = 0.01;         ///< lateral amplitude / mean speed
+  double steady_lateral_amplitude = 0.01;  ///< lateral amplitude / mean speed
   double steady_tilt_amplitude_deg = 1.0;
-  double oblique_path_angle_deg = 1.0;            ///< mean path from vertical
-  double drift_min_trend_fraction = 0.9;          ///< variance fraction of a linear trend
-  double periodic_min_concentration = 0.5;        ///< spectral power fraction near the peak
-  double periodic_min_cycles = 2.0;               ///< periods in the averaging window
-  double spiral_min_circularity = 0.8;            ///< 2 a1 a2 / (a1^2 + a2^2)
+  double oblique_path_angle_deg = 1.0;      ///< mean path from vertical
+  double drift_min_trend_fraction = 0.9;    ///< variance fraction of a linear trend
+  double periodic_min_concentration = 0.5;  ///< spectral power fraction near the peak
+  double periodic_min_cycles = 2.0;         ///< periods in the averaging window
+  double spiral_min_circularity = 0.8;      ///< 2 a1 a2 / (a1^2 + a2^2)
   double flutter_min_tilt_amplitude_deg = 20.0;
   double tumbling_min_net_rotation = 3.141592653589793;  ///< rad, half a turn
-  double tumbling_min_monotonicity = 0.8;         ///< |net rotation| / total rotation
-  double tumbling_max_axis_elevation_deg = 30.0;  ///< rotation axis from horizontal
+  double tumbling_min_monotonicity = 0.8;                ///< |net rotation| / total rotation
+  double tumbling_max_axis_elevation_deg = 30.0;         ///< rotation axis from horizontal
 };
 
 /// What the rules look at, measured over the averaging window (observables.cpp).
@@ -93,8 +93,8 @@ struct RegimeEvidence {
   double tilt_concentration = 0.0;
   double tilt_cycles = 0.0;
   double tilt_trend_fraction = 0.0;
-  double axis_net_rotation = 0.0;           ///< rad, signed
-  double axis_rotation_monotonicity = 0.0;  ///< |net| / total rotation of the axis
+  double axis_net_rotation = 0.0;             ///< rad, signed
+  double axis_rotation_monotonicity = 0.0;    ///< |net| / total rotation of the axis
   double axis_rotation_elevation_deg = 90.0;  ///< of the mean rotation axis above horizontal
 };
 

@@ -42,9 +42,10 @@ std::string classifiability(const Analysis& a) {
   if (a.terminal.reached || !(a.criteria.response_time_si > 0.0)) return "";
   const double half = a.window_end_si - a.window_start_si, needed = 2.0 * a.criteria.window_si();
   if (half < needed)
-    return fmt::format("no terminal state, and the second half of the run ({:.4g} s) is shorter than the two "
-                       "detection windows ({:.4g} s) that would have to disagree for an unsteady regime",
-                       half, needed);
+    return fmt::format(
+        "no terminal state, and the second half of the run ({:.4g} s) is shorter than the two "
+        "detection windows ({:.4g} s) that would have to disagree for an unsteady regime",
+        half, needed);
   return "";
 }
 

@@ -26,8 +26,8 @@ constexpr std::size_t kMaxSummedSamples = 512;
 template <class Samples>
 WindowMean hann_window_mean(const Samples& samples, double begin, double end) {
   using Sample = typename Samples::value_type;
-  const auto first = std::lower_bound(samples.begin(), samples.end(), begin,
-                                      [](const Sample& s, double t) { return s.t < t; });
+  const auto first =
+      std::lower_bound(samples.begin(), samples.end(), begin, [](const Sample& s, double t) { return s.t < t; });
   const auto last = std::upper_bound(first, samples.end(), end, [](double t, const Sample& s) { return t < s.t; });
   WindowMean result;
   result.samples = static_cast<std::size_t>(last - first);
@@ -69,8 +69,8 @@ TerminalStateDetector::TerminalStateDetector(const TerminalCriteria& criteria) :
 
 void TerminalStateDetector::add(double t_si, const Eigen::Vector3d& velocity_si) {
   if (last_t_ && !(t_si > *last_t_))
-    throw std::invalid_argument("TerminalStateDetector::add: t must increase, got " + std::to_string(t_si) +
-                                " after " + std::to_string(*last_t_));
+    throw std::invalid_argument("TerminalStateDetector::add: t must increase, got " + std::to_string(t_si) + " after " +
+                                std::to_string(*last_t_));
   last_t_ = t_si;
   if (state_.reached) return;
   if (!first_t_) first_t_ = t_si;
@@ -88,8 +88,7 @@ void TerminalStateDetector::check(double t_si) {
   const WindowMean previous = hann_window_mean(samples_, t_si - 2.0 * w, t_si - w);
   const WindowMean current = hann_window_mean(samples_, t_si - w, t_si);
   state_.samples_per_window = std::max(state_.samples_per_window, std::min(previous.samples, current.samples));
-  if (previous.samples < criteria_.min_samples_per_window || current.samples < criteria_.min_samples_per_window)
-    return;
+  if (previous.samples < criteria_.min_samples_per_window || current.samples < criteria_.min_samples_per_window) return;
   const double speed = current.mean.norm();
   if (!(speed > 0.0)) return;
   const double change = (current.mean - previous.mean).norm() / speed;

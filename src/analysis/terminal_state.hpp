@@ -70,10 +70,10 @@ struct TerminalCriteria {
 /// The terminal state found (or not) in a series.
 struct TerminalState {
   bool reached = false;
-  double terminal_time_si = 0.0;  ///< start of the terminal window (t_detected - W)
-  double detected_at_si = 0.0;    ///< sample time at which the criterion first held
+  double terminal_time_si = 0.0;                                      ///< start of the terminal window (t_detected - W)
+  double detected_at_si = 0.0;                                        ///< sample time at which the criterion first held
   Eigen::Vector3d window_mean_velocity_si = Eigen::Vector3d::Zero();  ///< U over [t - W, t] at detection
-  double relative_change = 0.0;   ///< |U(t) - U(t - W)| / |U(t)| at detection
+  double relative_change = 0.0;                                       ///< |U(t) - U(t - W)| / |U(t)| at detection
   /// Largest number of samples seen in one window; below min_samples_per_window the output is
   /// too coarse for the criterion.
   std::size_t samples_per_window = 0;

@@ -146,9 +146,9 @@ SettlingSeries SettlingSeries::since(double t0_si) const {
 }
 
 const std::vector<std::string>& settling_series_columns() {
-  static const std::vector<std::string> columns{"t",   "x",   "y",   "z",     "ux",    "uy", "uz", "wx",
-                                                "wy",  "wz",  "wbx", "wby",   "wbz",   "psi", "theta", "gamma",
-                                                "Fx",  "Fy",  "Fz",  "Tx",    "Ty",    "Tz"};
+  static const std::vector<std::string> columns{"t",  "x",  "y",   "z",   "ux",  "uy",  "uz",    "wx",
+                                                "wy", "wz", "wbx", "wby", "wbz", "psi", "theta", "gamma",
+                                                "Fx", "Fy", "Fz",  "Tx",  "Ty",  "Tz"};
   return columns;
 }
 
@@ -156,21 +156,20 @@ SettlingSeries settling_series(const Timeseries& table) {
   // Every column is looked up first, so that a missing one is reported before any value.
   for (const std::string& name : settling_series_columns()) (void)table.column(name);
   const std::size_t rows = table.rows();
-  if (rows < 2)
-    throw InputError(fmt::format("{}: {} data rows; the analysis needs at least 2", table.source(), rows));
+  if (rows < 2) throw InputError(fmt::format("{}: {} data rows; the analysis needs at least 2", table.source(), rows));
   // Line numbers in messages count the header as line 1 (blank lines aside).
   for (const std::string& name : settling_series_columns()) {
     const std::vector<double>& values = table.column(name);
     for (std::size_t r = 0; r < rows; ++r)
       if (!std::isfinite(values[r]))
-        throw InputError(fmt::format("{}: row {}: column '{}' is not finite ({})", table.source(), r + 1, name,
-                                     values[r]));
+        throw InputError(
+            fmt::format("{}: row {}: column '{}' is not finite ({})", table.source(), r + 1, name, values[r]));
   }
   const std::vector<double>& t = table.column("t");
   for (std::size_t r = 1; r < rows; ++r)
     if (!(t[r] > t[r - 1]))
-      throw InputError(fmt::format("{}: row {}: column 't' must increase, got {} after {}", table.source(), r + 1,
-                                   t[r], t[r - 1]));
+      throw InputError(
+          fmt::format("{}: row {}: column 't' must increase, got {} after {}", table.source(), r + 1, t[r], t[r - 1]));
 
   SettlingSeries series;
   for (std::size_t r = 0; r < rows; ++r) {

@@ -92,14 +92,14 @@ coupling::SimulationSetup run_setup(const fs::path& dir, const json& summary) {
   const fs::path case_path = required_file(dir, "case.resolved.toml");
   const std::string name = summary.contains("case") && summary["case"].is_string() ? summary["case"].get<std::string>()
                                                                                    : dir.filename().string();
-  const io::CaseValues values =
-      io::parse_case(io::case_schema(), read_text(case_path), case_path.string());
+  const io::CaseValues values = io::parse_case(io::case_schema(), read_text(case_path), case_path.string());
   // Relative mesh paths of the resolved case are taken relative to the run directory.
   coupling::SimulationSetup setup = io::simulation_setup(values, dir, name);
   if (setup.motion != body::MotionKind::free)
-    throw InputError(fmt::format("{}: particle.motion is not \"free\": settle analyze applies to free-settling bodies "
-                                 "(towed and fixed runs carry their force coefficients in summary.json)",
-                                 case_path.string()));
+    throw InputError(
+        fmt::format("{}: particle.motion is not \"free\": settle analyze applies to free-settling bodies "
+                    "(towed and fixed runs carry their force coefficients in summary.json)",
+                    case_path.string()));
   return setup;
 }
 
@@ -110,15 +110,16 @@ std::string optional_text(const std::optional<double>& value, const char* format
 void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream& out) {
   out << fmt::format("settle analyze: {}\n", dir.string());
   if (a.terminal.reached)
-    out << fmt::format("  terminal state   reached at t = {:.4g} s (detected at {:.4g} s; window {:.4g} s = {:.3g} "
-                       "response times of {:.4g} s, tolerance {:.3g})\n",
-                       a.terminal.terminal_time_si, a.terminal.detected_at_si, a.criteria.window_si(),
-                       a.criteria.window_response_times, a.criteria.response_time_si, a.criteria.tolerance);
+    out << fmt::format(
+        "  terminal state   reached at t = {:.4g} s (detected at {:.4g} s; window {:.4g} s = {:.3g} "
+        "response times of {:.4g} s, tolerance {:.3g})\n",
+        a.terminal.terminal_time_si, a.terminal.detected_at_si, a.criteria.window_si(),
+        a.criteria.window_response_times, a.criteria.response_time_si, a.criteria.tolerance);
   else
-    out << fmt::format("  terminal state   not reached (window {:.4g} s = {:.3g} response times of {:.4g} s, "
-                       "tolerance {:.3g})\n",
-                       a.criteria.window_si(), a.criteria.window_response_times, a.criteria.response_time_si,
-                       a.criteria.tolerance);
+    out << fmt::format(
+        "  terminal state   not reached (window {:.4g} s = {:.3g} response times of {:.4g} s, "
+        "tolerance {:.3g})\n",
+        a.criteria.window_si(), a.criteria.window_response_times, a.criteria.response_time_si, a.criteria.tolerance);
   if (a.time_to_95_percent_si)
     out << fmt::format("  approach         95% of the terminal vertical velocity at t = {:.4g} s after the start\n",
                        *a.time_to_95_percent_si);
@@ -126,10 +127,11 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
                      a.window_samples, a.averaged_over_terminal_window ? "terminal window" : "second half of the run");
   out << fmt::format("  velocity         |U| = {:.5g} m/s, along g {:.5g} m/s, path {:.3g} deg from vertical\n",
                      a.terminal_speed_si, a.vertical_velocity_si, a.path_angle_deg);
-  out << fmt::format("  groups           Re = {:.4g}, Ga = {:.4g}, Ar = {:.4g}, St = {:.4g}, rho_p/rho_f = {:.4g}, "
-                     "I* = {}\n",
-                     a.reynolds, a.galileo, a.archimedes, a.stokes_number, a.density_ratio,
-                     optional_text(a.dimensionless_inertia, "{:.4g}"));
+  out << fmt::format(
+      "  groups           Re = {:.4g}, Ga = {:.4g}, Ar = {:.4g}, St = {:.4g}, rho_p/rho_f = {:.4g}, "
+      "I* = {}\n",
+      a.reynolds, a.galileo, a.archimedes, a.stokes_number, a.density_ratio,
+      optional_text(a.dimensionless_inertia, "{:.4g}"));
   out << fmt::format("  drag             C_D = {:.4g} (d_eq), {} (projected area {} m^2), {:.4g} from the mean force\n",
                      a.drag_coefficient, optional_text(a.drag_coefficient_projected_area, "{:.4g}"),
                      optional_text(a.projected_area_si, "{:.4g}"), a.drag_coefficient_from_force);
@@ -171,8 +173,7 @@ void add_analyze_command(CLI::App& app) {
       "analyze", "Terminal state, observables and regime of a free-settling run; updates RUN_DIR/summary.json");
   cmd->add_option("RUN_DIR", options->run_dir, "output directory of settle run")->required();
   cmd->add_flag("--json", options->json_output, "print the analysis fields as JSON instead of the report");
-  cmd->add_option("--window", options->window,
-                  "terminal-state window in particle response times (default 5)")
+  cmd->add_option("--window", options->window, "terminal-state window in particle response times (default 5)")
       ->type_name("N");
   cmd->add_option("--tolerance", options->tolerance,
                   "largest relative change of the window mean velocity at the terminal state (default 0.01)")

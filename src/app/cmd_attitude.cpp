@@ -68,7 +68,7 @@ double parse_number(std::string_view flag, std::string_view text) {
 Eigen::Vector3d parse_vector3(std::string_view flag, const std::string& text) {
   std::vector<std::string_view> fields;
   std::string_view rest = text;
-  for (auto comma = rest.find(','); ; comma = rest.find(',')) {
+  for (auto comma = rest.find(',');; comma = rest.find(',')) {
     fields.push_back(rest.substr(0, comma));
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);
@@ -90,16 +90,18 @@ Eigen::Vector3d parse_inertia(const std::string& text) {
   if (text.empty()) throw InputError("--inertia: required (principal moments I1,I2,I3 in kg m^2)");
   const Eigen::Vector3d inertia = parse_vector3("--inertia", text);
   if ((inertia.array() <= 0.0).any()) {
-    throw InputError(fmt::format("--inertia: every moment must be > 0, got {},{},{}", inertia[0], inertia[1], inertia[2]));
+    throw InputError(
+        fmt::format("--inertia: every moment must be > 0, got {},{},{}", inertia[0], inertia[1], inertia[2]));
   }
   // A physical body has each principal moment at most the sum of the other two (equality for
   // a flat lamina); the small slack absorbs the rounding of decimal input such as 0.1,0.2,0.3.
   for (int i = 0; i < 3; ++i) {
     const double others = inertia.sum() - inertia[i];
     if (others < inertia[i] * (1.0 - 1e-12)) {
-      throw InputError(fmt::format("--inertia: each moment must not exceed the sum of the other two "
-                                   "(triangle inequality of a physical body), got {},{},{}",
-                                   inertia[0], inertia[1], inertia[2]));
+      throw InputError(
+          fmt::format("--inertia: each moment must not exceed the sum of the other two "
+                      "(triangle inequality of a physical body), got {},{},{}",
+                      inertia[0], inertia[1], inertia[2]));
     }
   }
   return inertia;
@@ -141,8 +143,9 @@ AttitudeRun check(const AttitudeOptions& o) {
   }
   run.output_every = static_cast<long>(every);
   if (o.omega.empty() == o.omega_file.empty()) {
-    throw InputError("--omega, --omega-file: give exactly one (initial body rates for torque-free motion, "
-                     "or a CSV body-rate series t,wx,wy,wz)");
+    throw InputError(
+        "--omega, --omega-file: give exactly one (initial body rates for torque-free motion, "
+        "or a CSV body-rate series t,wx,wy,wz)");
   }
   if (!o.omega.empty()) {
     run.omega0_b = parse_vector3("--omega", o.omega);
@@ -158,7 +161,8 @@ AttitudeRun check(const AttitudeOptions& o) {
 
 class CsvOutput {
  public:
-  explicit CsvOutput(const std::string& path) : file_(path.empty() ? stdout : std::fopen(path.c_str(), "w")), path_(path) {
+  explicit CsvOutput(const std::string& path)
+      : file_(path.empty() ? stdout : std::fopen(path.c_str(), "w")), path_(path) {
     if (file_ == nullptr) throw InputError(fmt::format("-o: cannot open '{}' for writing", path));
     fmt::print(file_,
                "t,wx,wy,wz,psi,theta,gamma,psi_r,theta_r,gamma_r,euler_set,"
@@ -238,9 +242,11 @@ RunSummary run_torque_free(const AttitudeRun& run, CsvOutput& out) {
   const auto track = [&](const Eigen::Matrix3d& r, const Eigen::Vector3d& omega) {
     const double energy = attitude::rotational_energy(inertia, omega);
     const Eigen::Vector3d momentum = r * run.inertia.cwiseProduct(omega);
-    if (energy0 > 0.0) summary.max_energy_drift = std::max(summary.max_energy_drift, std::abs(energy - energy0) / energy0);
+    if (energy0 > 0.0)
+      summary.max_energy_drift = std::max(summary.max_energy_drift, std::abs(energy - energy0) / energy0);
     if (momentum0.norm() > 0.0) {
-      summary.max_momentum_drift = std::max(summary.max_momentum_drift, (momentum - momentum0).norm() / momentum0.norm());
+      summary.max_momentum_drift =
+          std::max(summary.max_momentum_drift, (momentum - momentum0).norm() / momentum0.norm());
     }
   };
 
@@ -319,9 +325,11 @@ void run_attitude(const AttitudeOptions& options) {
   const std::string switches = dual ? fmt::format("{} set switches", summary.switches)
                                     : fmt::format("{} set changes of the dual-Euler rule", summary.switches);
   if (run.omega0_b) {
-    fmt::print(stderr, "settle attitude: {} torque-free, {} steps to t = {}, {}, max relative drift: "
-               "energy {:.3g}, angular momentum (inertial) {:.3g}\n", dual ? "dual-euler" : "quaternion",
-               summary.steps, run.t_end, switches, summary.max_energy_drift, summary.max_momentum_drift);
+    fmt::print(stderr,
+               "settle attitude: {} torque-free, {} steps to t = {}, {}, max relative drift: "
+               "energy {:.3g}, angular momentum (inertial) {:.3g}\n",
+               dual ? "dual-euler" : "quaternion", summary.steps, run.t_end, switches, summary.max_energy_drift,
+               summary.max_momentum_drift);
   } else {
     fmt::print(stderr, "settle attitude: {} kinematics from '{}', {} steps to t = {}, {}\n",
                dual ? "dual-euler" : "quaternion", options.omega_file, summary.steps, run.t_end, switches);
@@ -361,12 +369,17 @@ A summary (steps, set switches, invariant drift) goes to stderr.)";
 void add_attitude_command(CLI::App& app) {
   auto options = std::make_shared<AttitudeOptions>();
   CLI::App* sub = app.add_subcommand(
-      "attitude", "Rigid-body attitude: torque-free motion from initial body rates, or kinematics from a body-rate series");
-  sub->add_option("--inertia", options->inertia, "Principal moments of inertia (kg m^2), each > 0 and <= sum of the others (required)")
+      "attitude",
+      "Rigid-body attitude: torque-free motion from initial body rates, or kinematics from a body-rate series");
+  sub->add_option("--inertia", options->inertia,
+                  "Principal moments of inertia (kg m^2), each > 0 and <= sum of the others (required)")
       ->type_name("I1,I2,I3");
-  sub->add_option("--omega", options->omega, "Initial body angular velocity (rad/s): torque-free motion")->type_name("WX,WY,WZ");
-  sub->add_option("--omega-file", options->omega_file, "CSV body-rate series t,wx,wy,wz: kinematics")->type_name("F.csv");
-  sub->add_option("--euler", options->euler, "Initial set-1 angles psi,theta,gamma (rad), body to inertial (default 0,0,0)")
+  sub->add_option("--omega", options->omega, "Initial body angular velocity (rad/s): torque-free motion")
+      ->type_name("WX,WY,WZ");
+  sub->add_option("--omega-file", options->omega_file, "CSV body-rate series t,wx,wy,wz: kinematics")
+      ->type_name("F.csv");
+  sub->add_option("--euler", options->euler,
+                  "Initial set-1 angles psi,theta,gamma (rad), body to inertial (default 0,0,0)")
       ->type_name("PSI,THETA,GAMMA");
   sub->add_option("--dt", options->dt, "Time step (s), > 0 (required)")->type_name("DT");
   sub->add_option("--t-end", options->t_end, "End time (s), > 0 (required)")->type_name("T");

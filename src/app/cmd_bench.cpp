@@ -146,7 +146,8 @@ coupling::SimulationSetup case_setup(const BenchOptions& o) {
   const fs::path path = o.case_file;
   const io::CaseValues values = io::load_case(path, o.overrides);
   const fs::path base = o.default_case ? fs::current_path() : fs::absolute(path).parent_path();
-  coupling::SimulationSetup setup = io::simulation_setup(values, base, o.default_case ? "default" : path.stem().string());
+  coupling::SimulationSetup setup =
+      io::simulation_setup(values, base, o.default_case ? "default" : path.stem().string());
   io::preflight(setup, io::PreflightOptions{});
   return setup;
 }
@@ -159,8 +160,9 @@ std::map<std::string, double> timer_seconds(const coupling::SubstepTimers& timer
 
 void step_or_refuse(coupling::Simulation& sim, const BenchOptions& o) {
   if (!sim.can_step())
-    throw InputError(fmt::format("--steps: the body reached the edge of the grid after {} steps of {}; bench fewer steps",
-                                 sim.steps(), case_name(o)));
+    throw InputError(
+        fmt::format("--steps: the body reached the edge of the grid after {} steps of {}; bench fewer steps",
+                    sim.steps(), case_name(o)));
   sim.step();
 }
 
@@ -188,9 +190,11 @@ nlohmann::json run_case_bench(const BenchOptions& o) {
   const double cell_count = static_cast<double>(sim.fluid().cell_count());
   const double bytes = static_cast<double>(sim.fluid().bytes_per_cell_update());
   const int steps = even_steps(o.steps);
-  fmt::print(stderr, "settle bench --case {}: {}x{}x{} cells, {}, {} rounds of {} coupled steps and a bandwidth probe, {} threads\n",
-             case_name(o), cells[0], cells[1], cells[2], coupling::to_string(sim.setup().coupling), o.rounds, steps,
-             omp_get_max_threads());
+  fmt::print(
+      stderr,
+      "settle bench --case {}: {}x{}x{} cells, {}, {} rounds of {} coupled steps and a bandwidth probe, {} threads\n",
+      case_name(o), cells[0], cells[1], cells[2], coupling::to_string(sim.setup().coupling), o.rounds, steps,
+      omp_get_max_threads());
   for (int s = 0; s < 2; ++s) step_or_refuse(sim, o);  // faults the pages in, starts the wake
   const std::map<std::string, double> before = timer_seconds(sim.timers());
   std::vector<double> round_seconds, round_mlups;
@@ -251,22 +255,32 @@ void add_bench_command(CLI::App& app) {
       "Prints JSON.");
   CLI::Option* case_option =
       cmd->add_option("--case", options->case_file, "time this case's coupled step (no output is written)");
-  CLI::Option* default_case_flag =
-      cmd->add_flag("--default-case", options->default_case, "time the coupled step of the case `settle run` runs without a file")
-          ->excludes(case_option);
-  cmd->add_option("--set", options->overrides, "with --case: override a case key, e.g. --set numerics.cells_per_diameter=24");
-  cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27")->capture_default_str()->excludes(case_option)->excludes(default_case_flag);
+  CLI::Option* default_case_flag = cmd->add_flag("--default-case", options->default_case,
+                                                 "time the coupled step of the case `settle run` runs without a file")
+                                       ->excludes(case_option);
+  cmd->add_option("--set", options->overrides,
+                  "with --case: override a case key, e.g. --set numerics.cells_per_diameter=24");
+  cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27")
+      ->capture_default_str()
+      ->excludes(case_option)
+      ->excludes(default_case_flag);
   cmd->add_option("--collision", options->collision, "bgk, trt or recursive_regularized")
       ->capture_default_str()
-      ->excludes(case_option)->excludes(default_case_flag);
+      ->excludes(case_option)
+      ->excludes(default_case_flag);
   cmd->add_option("--precision", options->precision, "storage precision: double or float")
       ->capture_default_str()
-      ->excludes(case_option)->excludes(default_case_flag);
-  cmd->add_option("--size", options->size, "cells per edge N of the periodic box")->capture_default_str()->excludes(case_option)->excludes(default_case_flag);
+      ->excludes(case_option)
+      ->excludes(default_case_flag);
+  cmd->add_option("--size", options->size, "cells per edge N of the periodic box")
+      ->capture_default_str()
+      ->excludes(case_option)
+      ->excludes(default_case_flag);
   cmd->add_option("--steps", options->steps, "timed steps per round (rounded up to even)")->capture_default_str();
   cmd->add_option("--threads", options->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
       ->capture_default_str();
-  cmd->add_option("--rounds", options->rounds, "rounds, each between two bandwidth probes; the median of the per-round fractions is reported")
+  cmd->add_option("--rounds", options->rounds,
+                  "rounds, each between two bandwidth probes; the median of the per-round fractions is reported")
       ->capture_default_str();
   cmd->add_option("--probe-gib", options->probe_gib, "size of the bandwidth probe's array in GiB")
       ->capture_default_str();

@@ -99,13 +99,15 @@ std::string find_python() {
   std::string tried;
   for (const auto& python : candidates) tried += (tried.empty() ? "" : ", ") + python;
   if (!any_started)
-    throw InputError(fmt::format("settle plot needs python3 (tried {}): install Debian's python3 and "
-                                 "python3-matplotlib (apt-get install python3 python3-matplotlib), or set SETTLE_PYTHON",
-                                 tried));
-  throw InputError(fmt::format("matplotlib or numpy is not importable by {}: install Debian's python3-matplotlib "
-                               "(apt-get install python3-matplotlib python3-numpy), or set SETTLE_PYTHON to a python "
-                               "that has them",
-                               tried));
+    throw InputError(
+        fmt::format("settle plot needs python3 (tried {}): install Debian's python3 and "
+                    "python3-matplotlib (apt-get install python3 python3-matplotlib), or set SETTLE_PYTHON",
+                    tried));
+  throw InputError(
+      fmt::format("matplotlib or numpy is not importable by {}: install Debian's python3-matplotlib "
+                  "(apt-get install python3-matplotlib python3-numpy), or set SETTLE_PYTHON to a python "
+                  "that has them",
+                  tried));
 }
 
 /// python/settle_plot.py: from $SETTLE_PYTHON_DIR when set, else the source tree this binary was
@@ -126,10 +128,11 @@ fs::path find_script() {
 void check_run_dir(const std::string& run_dir) {
   std::error_code error;
   if (!fs::is_directory(run_dir, error))
-    throw InputError(fmt::format("RUN_DIR: '{}' is not a directory (give the output directory of settle run)", run_dir));
+    throw InputError(
+        fmt::format("RUN_DIR: '{}' is not a directory (give the output directory of settle run)", run_dir));
   if (!fs::is_regular_file(fs::path(run_dir) / "timeseries.csv", error))
-    throw InputError(fmt::format("RUN_DIR: '{}' has no timeseries.csv (give the output directory of settle run)",
-                                 run_dir));
+    throw InputError(
+        fmt::format("RUN_DIR: '{}' has no timeseries.csv (give the output directory of settle run)", run_dir));
 }
 
 void plot(const PlotOptions& options) {

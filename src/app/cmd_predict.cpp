@@ -55,10 +55,11 @@ struct Problem {
 
 // The flags that describe the particle or fluid, e.g. "--shape, --density" (empty if none).
 std::string particle_flags_given(const PredictOptions& o) {
-  const std::pair<const char*, bool> flags[] = {
-      {"--density", o.density.has_value()},   {"--fluid-density", o.fluid_density.has_value()},
-      {"--viscosity", o.viscosity.has_value()}, {"--gravity", o.gravity.has_value()},
-      {"--euler", o.euler.has_value()}};
+  const std::pair<const char*, bool> flags[] = {{"--density", o.density.has_value()},
+                                                {"--fluid-density", o.fluid_density.has_value()},
+                                                {"--viscosity", o.viscosity.has_value()},
+                                                {"--gravity", o.gravity.has_value()},
+                                                {"--euler", o.euler.has_value()}};
   std::string given = shape_flags_given(o.shape);
   for (const auto& [flag, present] : flags) {
     if (present) given += (given.empty() ? "" : ", ") + std::string(flag);
@@ -80,7 +81,8 @@ analysis::Orientation parse_orientation(const std::string& text) {
 double parse_roundness(const PredictOptions& o) {
   if (!o.powers_roundness) return 6.0;
   const double p = parse_number(*o.powers_roundness, "--powers-roundness");
-  if (p < 0.0 || p > 6.0) throw InputError(fmt::format("--powers-roundness: must be in [0, 6], got {}", *o.powers_roundness));
+  if (p < 0.0 || p > 6.0)
+    throw InputError(fmt::format("--powers-roundness: must be in [0, 6], got {}", *o.powers_roundness));
   return p;
 }
 
@@ -94,7 +96,8 @@ Problem problem_from_flags(const PredictOptions& o, analysis::Orientation orient
   p.dynamic_viscosity_si = required_positive(o.viscosity, "--viscosity", "dynamic viscosity, Pa s");
   p.gravity_si = o.gravity ? positive_number(*o.gravity, "--gravity") : defaults::gravity_si;
   if (density == p.fluid_density_si) {
-    throw InputError(fmt::format("--density: must differ from --fluid-density ({}), else nothing settles", *o.fluid_density));
+    throw InputError(
+        fmt::format("--density: must differ from --fluid-density ({}), else nothing settles", *o.fluid_density));
   }
   // Gravity points along -z; --euler is the initial attitude (set 1, body to inertial).
   Eigen::Vector3d fall_body = -Eigen::Vector3d::UnitZ();
@@ -160,9 +163,12 @@ std::string table(const Problem& problem, const std::vector<analysis::LawPredict
       "Powers roundness {:.3g}\n\n",
       d.sphericity, d.crosswise_sphericity, d.lengthwise_sphericity, d.flatness, d.elongation, d.corey_shape_factor,
       d.powers_roundness);
-  out += fmt::format("{:<18} {:>11} {:>11} {:>11}  {:<8}  {}\n", "law", "U (m/s)", "Re", "C_D", "in range", "range / note");
+  out += fmt::format("{:<18} {:>11} {:>11} {:>11}  {:<8}  {}\n", "law", "U (m/s)", "Re", "C_D", "in range",
+                     "range / note");
   for (const auto& p : predictions) {
-    const auto cell = [&](double v) { return p.state.solved ? fmt::format("{:>11.4e}", v) : fmt::format("{:>11}", "-"); };
+    const auto cell = [&](double v) {
+      return p.state.solved ? fmt::format("{:>11.4e}", v) : fmt::format("{:>11}", "-");
+    };
     out += fmt::format("{:<18} {} {} {}  {:<8}  {}{}\n", p.law, cell(p.state.terminal_velocity_si),
                        cell(p.state.reynolds), cell(p.state.drag_coefficient), p.in_range ? "yes" : "NO", p.range,
                        p.reason.empty() ? "" : " -- " + p.reason);
@@ -174,7 +180,8 @@ void run(const PredictOptions& o) {
   const analysis::Orientation orientation = parse_orientation(o.orientation);
   const double roundness = parse_roundness(o);
   if (o.euler && orientation != analysis::Orientation::initial) {
-    throw InputError(fmt::format("--euler: only used with --orientation initial (got --orientation {})", o.orientation));
+    throw InputError(
+        fmt::format("--euler: only used with --orientation initial (got --orientation {})", o.orientation));
   }
   Problem problem;
   if (!o.case_file.empty()) {

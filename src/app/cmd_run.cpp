@@ -26,10 +26,10 @@
 #include "analysis/terminal_state.hpp"
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
-#include "app/run_checkpoints.hpp"
-#include "app/run_plan.hpp"
 #include "app/console.hpp"
 #include "app/output_values.hpp"
+#include "app/run_checkpoints.hpp"
+#include "app/run_plan.hpp"
 #include "app/summary_fields.hpp"
 #include "body/surface_triangulation.hpp"
 #include "common/atomic_file.hpp"
@@ -62,7 +62,6 @@ struct RunOptions {
   std::string restart_dir;  ///< --restart DIR (app/run_checkpoints.hpp)
 };
 
-
 void check_flags(const RunOptions& options) {
   if (options.threads < 0)
     throw InputError(fmt::format("--threads: must be >= 1 (or 0 for OpenMP's default), got {}", options.threads));
@@ -80,8 +79,8 @@ void prepare_output_directory(const fs::path& dir) {
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
   fs::remove(dir / "summary.json", error);
   if (error)
-    throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(),
-                                 error.message()));
+    throw InputError(
+        fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(), error.message()));
 }
 
 // The run directory holds everything needed to read it again (settle analyze, a later restart):
@@ -105,9 +104,12 @@ io::CaseValues with_mesh_copied_into(const io::CaseValues& values, const fs::pat
 
 std::string motion_name(body::MotionKind kind) {
   switch (kind) {
-    case body::MotionKind::towed: return "towed";
-    case body::MotionKind::fixed: return "fixed";
-    case body::MotionKind::free: break;
+    case body::MotionKind::towed:
+      return "towed";
+    case body::MotionKind::fixed:
+      return "fixed";
+    case body::MotionKind::free:
+      break;
   }
   return "free";
 }
@@ -188,8 +190,8 @@ void add_lift_spectrum(nlohmann::json& j, const coupling::Simulation& sim, const
   }
   const analysis::SpectralPeak peak = analysis::spectral_peak(t_si, lift);
   j["lift_frequency"] = peak.found ? nlohmann::json(peak.frequency_hz) : nlohmann::json(nullptr);
-  j["lift_strouhal"] =
-      peak.found ? nlohmann::json(peak.frequency_hz * sim.plan().equivalent_diameter_si / speed) : nlohmann::json(nullptr);
+  j["lift_strouhal"] = peak.found ? nlohmann::json(peak.frequency_hz * sim.plan().equivalent_diameter_si / speed)
+                                  : nlohmann::json(nullptr);
   j["lift_spectral_concentration"] = peak.found ? nlohmann::json(peak.concentration) : nlohmann::json(nullptr);
 }
 
@@ -275,14 +277,15 @@ std::optional<analysis::TerminalStateDetector> terminal_detector(const io::CaseV
   }
   const analysis::TerminalCriteria criteria = analysis::terminal_criteria(analysis::particle_properties(sim.setup()));
   if (!(criteria.response_time_si > 0.0)) {
-    console.warning("run.stop_at_terminal: the particle has no net weight, so no terminal state to detect; this run "
-                    "goes to run.end_time");
+    console.warning(
+        "run.stop_at_terminal: the particle has no net weight, so no terminal state to detect; this run "
+        "goes to run.end_time");
     return std::nullopt;
   }
-  console.info(fmt::format("stops at the terminal state: window {:.4g} s ({:g} response times of {:.4g} s), "
-                           "tolerance {:g}",
-                           criteria.window_si(), criteria.window_response_times, criteria.response_time_si,
-                           criteria.tolerance));
+  console.info(
+      fmt::format("stops at the terminal state: window {:.4g} s ({:g} response times of {:.4g} s), "
+                  "tolerance {:g}",
+                  criteria.window_si(), criteria.window_response_times, criteria.response_time_si, criteria.tolerance));
   return analysis::TerminalStateDetector(criteria);
 }
 
@@ -299,8 +302,8 @@ bool add_analysis(nlohmann::json& summary_document, const coupling::Simulation& 
     for (const auto& [key, value] : fields.items()) summary_document[key] = value;
     return true;
   } catch (const std::exception& e) {
-    const std::string warning = fmt::format("analysis not made: {} (settle analyze can retry with other options)",
-                                            e.what());
+    const std::string warning =
+        fmt::format("analysis not made: {} (settle analyze can retry with other options)", e.what());
     console.warning(warning);
     summary_document["warnings"].push_back(warning);
     return false;
@@ -314,13 +317,12 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
     console.info(fmt::format("  {:<20} {:8.2f} s  {:5.1f}%", name, seconds,
                              result.wall_seconds > 0.0 ? 100.0 * seconds / result.wall_seconds : 0.0));
   if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime"))
-    console.info(fmt::format("settling at {:.5g} m/s, Re = {:.4g}, C_D = {:.4g}, regime {}",
-                             summary_document["terminal_vertical_velocity"].get<double>(),
-                             summary_document["reynolds"].get<double>(),
-                             summary_document["drag_coefficient"].get<double>(),
-                             summary_document["regime"].get<std::string>()));
-  console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps,
-                           result.wall_seconds, result.mlups, result.stop_reason, dir.string()));
+    console.info(fmt::format(
+        "settling at {:.5g} m/s, Re = {:.4g}, C_D = {:.4g}, regime {}",
+        summary_document["terminal_vertical_velocity"].get<double>(), summary_document["reynolds"].get<double>(),
+        summary_document["drag_coefficient"].get<double>(), summary_document["regime"].get<std::string>()));
+  console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps, result.wall_seconds,
+                           result.mlups, result.stop_reason, dir.string()));
 }
 
 // summary.json, the run's completion mark (file comment): the loop's figures, the reference the
@@ -351,7 +353,7 @@ void run_case(const RunOptions& options) {
   const fs::path case_path = options.case_file;
   const io::CaseValues values = restart ? restart->case_values() : io::load_case(case_path, options.overrides);
   const std::string name = restart ? restart->case_name() : case_path.empty() ? "default" : case_path.stem().string();
-  const fs::path base = restart              ? restart->run_dir()
+  const fs::path base = restart             ? restart->run_dir()
                         : case_path.empty() ? fs::current_path()
                                             : fs::absolute(case_path).parent_path();
   Console console(options.quiet ? Verbosity::quiet : options.verbose ? Verbosity::verbose : Verbosity::normal);
@@ -377,17 +379,18 @@ void run_case(const RunOptions& options) {
 
   coupling::Simulation sim(std::move(setup));
   if (restart) restart->restore(sim);
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-  else if (restart) omp_set_num_threads(restart->threads());  // as the run had: bit for bit
+  if (options.threads > 0)
+    omp_set_num_threads(options.threads);
+  else if (restart)
+    omp_set_num_threads(restart->threads());  // as the run had: bit for bit
   const auto& d = sim.derived();
   const auto& p = sim.plan();
-  console.info(fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
-                           "grid {}x{}x{}, {} {}, {} threads",
-                           name, p.units.dx_si(), p.units.dt_si(), p.units.tau(), p.mach, p.reynolds, p.galileo,
-                           d.cells[0], d.cells[1],
-                           d.cells[2], d.marker_count,
-                           sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)",
-                           omp_get_max_threads()));
+  console.info(
+      fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
+                  "grid {}x{}x{}, {} {}, {} threads",
+                  name, p.units.dx_si(), p.units.dt_si(), p.units.tau(), p.mach, p.reynolds, p.galileo, d.cells[0],
+                  d.cells[1], d.cells[2], d.marker_count,
+                  sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)", omp_get_max_threads()));
 
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
   prepare_output_directory(dir);
@@ -437,8 +440,10 @@ void run_case(const RunOptions& options) {
     result = coupling::run(sim, callbacks, restart ? restart->take_loop_state() : coupling::RunStart{},
                            console.progress_interval_s());
   } catch (const std::exception&) {
-    console.warning(fmt::format("the run failed after {} steps; {} holds the rows written until then, and no "
-                                "summary.json was written", sim.steps(), (dir / "timeseries.csv").string()));
+    console.warning(
+        fmt::format("the run failed after {} steps; {} holds the rows written until then, and no "
+                    "summary.json was written",
+                    sim.steps(), (dir / "timeseries.csv").string()));
     throw;
   }
   if (result.stop_reason == "interrupted")
@@ -462,7 +467,8 @@ void add_run_command(CLI::App& app) {
   run->add_flag("--dry-run", options->dry_run,
                 "check the case and print its plan (grid, time step, steps, memory, an estimate of the wall time) "
                 "without running it or writing anything");
-  run->add_flag("-v,--verbose", options->verbose, "also print every derived value of the unit conversion; progress more often in a log");
+  run->add_flag("-v,--verbose", options->verbose,
+                "also print every derived value of the unit conversion; progress more often in a log");
   CLI::Option* max_memory = run->add_option(
       "--max-memory", options->max_memory_gib,
       "memory budget in GiB for the preflight check (default: MemAvailable of /proc/meminfo); a case whose estimate "
@@ -472,8 +478,8 @@ void add_run_command(CLI::App& app) {
     run_case(*options);
   });
   run->add_option("--restart", options->restart_dir,
-                   "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
-                   "SIGINT/SIGTERM); takes no case file, --set or -o")
+                  "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
+                  "SIGINT/SIGTERM); takes no case file, --set or -o")
       ->type_name("DIR");
 }
 

@@ -63,7 +63,8 @@ CaseParticle read_case_particle(const std::filesystem::path& path) {
 
 // ------------------------------------------------------------------ output
 json matrix_json(const Eigen::Matrix3d& m) {
-  return json::array({vector_json(m.row(0).transpose()), vector_json(m.row(1).transpose()), vector_json(m.row(2).transpose())});
+  return json::array(
+      {vector_json(m.row(0).transpose()), vector_json(m.row(1).transpose()), vector_json(m.row(2).transpose())});
 }
 
 json markers_json(const body::Shape& shape, double spacing) {

@@ -27,8 +27,10 @@ double positive_number(const std::string& text, const std::string& flag) {
 std::vector<double> parse_numbers(const std::string& text, const std::string& flag, std::size_t count) {
   std::vector<std::string> parts(1);
   for (const char c : text) {
-    if (c == ',') parts.emplace_back();
-    else parts.back() += c;
+    if (c == ',')
+      parts.emplace_back();
+    else
+      parts.back() += c;
   }
   if (parts.size() != count)
     throw InputError(fmt::format("{}: expected {} comma-separated numbers, got '{}'", flag, count, text));

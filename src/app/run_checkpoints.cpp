@@ -57,8 +57,7 @@ coupling::Sample read_sample(RecordReader& in, const std::string& section) {
   s.angular_velocity_n_si = in.vec3();
   s.angular_velocity_b_si = in.vec3();
   const std::uint32_t set = in.u32();
-  if (set != 1 && set != 2)
-    throw CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", section, set));
+  if (set != 1 && set != 2) throw CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", section, set));
   s.attitude = attitude::Attitude(set == 1 ? attitude::EulerSet::set1 : attitude::EulerSet::set2, in.vec3());
   s.hydrodynamic.force_si = in.vec3();
   s.hydrodynamic.torque_si = in.vec3();

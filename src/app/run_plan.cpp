@@ -49,25 +49,25 @@ std::string run_plan_text(const coupling::SimulationSetup& s, const io::Prefligh
   const double wall_s = r.steps * r.cell_count / rate;
   std::string text = fmt::format("plan of {} (--dry-run: nothing was run or written)\n", s.name);
   text += fmt::format("  units     dx = {:.4g} m ({:g} cells per d_eq = {:.4g} m), dt = {:.4g} s, tau = {:.4f}\n",
-                      p.units.dx_si(), s.cells_per_diameter, p.equivalent_diameter_si, p.units.dt_si(),
-                      p.units.tau());
+                      p.units.dx_si(), s.cells_per_diameter, p.equivalent_diameter_si, p.units.dt_si(), p.units.tau());
   text += fmt::format("  flow      expected speed {:.4g} m/s: Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}\n",
                       p.expected_speed_si, p.mach, p.reynolds, p.galileo);
-  text += fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}, {}\n", r.cells[0], r.cells[1], r.cells[2],
-                      r.cell_count, lbm::to_string(s.lattice), lbm::to_string(s.collision),
-                      lbm::to_string(s.precision));
+  text +=
+      fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}, {}\n", r.cells[0], r.cells[1], r.cells[2], r.cell_count,
+                  lbm::to_string(s.lattice), lbm::to_string(s.collision), lbm::to_string(s.precision));
   text += fmt::format("  run       end time {:.4g} s = {:.0f} steps\n", s.end_time_si, r.steps);
   text += fmt::format("  body      {}, about {:.3g} surface cells (area / dx^2)\n", coupling::to_string(s.coupling),
                       s.shape->surface_area() / (p.units.dx_si() * p.units.dx_si()));
-  const std::string budget = r.memory_budget_bytes
-                                 ? fmt::format("{:.3g} GiB available ({})", *r.memory_budget_bytes / kBytesPerGiB,
-                                               r.memory_budget_source)
-                                 : std::string("available memory unknown");
+  const std::string budget =
+      r.memory_budget_bytes
+          ? fmt::format("{:.3g} GiB available ({})", *r.memory_budget_bytes / kBytesPerGiB, r.memory_budget_source)
+          : std::string("available memory unknown");
   text += fmt::format("  memory    about {:.3g} GiB; {}\n", r.memory.total_bytes() / kBytesPerGiB, budget);
   const int threads = omp_get_max_threads();
-  text += fmt::format("  wall time about {} on {} thread{} for the fluid alone, at {:.0f} million cell updates per "
-                      "second measured just now on 96^3 cells; the coupling and the outputs add to it\n",
-                      duration_text(wall_s), threads, threads == 1 ? "" : "s", rate / 1e6);
+  text += fmt::format(
+      "  wall time about {} on {} thread{} for the fluid alone, at {:.0f} million cell updates per "
+      "second measured just now on 96^3 cells; the coupling and the outputs add to it\n",
+      duration_text(wall_s), threads, threads == 1 ? "" : "s", rate / 1e6);
   return text;
 }
 

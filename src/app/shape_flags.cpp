@@ -20,9 +20,11 @@ std::string flag_of(std::string_view key) {
 
 }  // namespace
 
-void add_shape_flags(CLI::App& command, ShapeFlags& flags, std::string_view length_unit, std::string_view scale_target) {
+void add_shape_flags(CLI::App& command, ShapeFlags& flags, std::string_view length_unit,
+                     std::string_view scale_target) {
   const auto help = [&](std::string_view text) { return fmt::format("{}{}", text, length_unit); };
-  command.add_option("--shape", flags.shape, "sphere | spheroid | ellipsoid | cylinder | cuboid | superellipsoid | mesh")
+  command
+      .add_option("--shape", flags.shape, "sphere | spheroid | ellipsoid | cylinder | cuboid | superellipsoid | mesh")
       ->type_name("NAME");
   command.add_option("--diameter", flags.diameter, help("sphere, spheroid (equatorial) and cylinder diameter"))
       ->type_name("D");
@@ -32,23 +34,28 @@ void add_shape_flags(CLI::App& command, ShapeFlags& flags, std::string_view leng
       ->type_name("a,b,c");
   command.add_option("--length", flags.length, help("cylinder length along body z"))->type_name("L");
   command.add_option("--size", flags.size, help("cuboid edge lengths along body x,y,z"))->type_name("a,b,c");
-  command.add_option("--exponents", flags.exponents,
-                     "superellipsoid exponents in [0.1, 2], Barr's convention: "
-                     "(|x/a|^(2/e2) + |y/b|^(2/e2))^(e2/e1) + |z/c|^(2/e1) <= 1")
+  command
+      .add_option("--exponents", flags.exponents,
+                  "superellipsoid exponents in [0.1, 2], Barr's convention: "
+                  "(|x/a|^(2/e2) + |y/b|^(2/e2))^(e2/e1) + |z/c|^(2/e1) <= 1")
       ->type_name("e1,e2");
   command.add_option("--mesh", flags.mesh, "watertight STL file (ASCII or binary); implies --shape mesh")
       ->type_name("FILE");
-  command.add_option("--scale", flags.scale, fmt::format("mesh: factor from file units to {} (default 1)", scale_target))
+  command
+      .add_option("--scale", flags.scale, fmt::format("mesh: factor from file units to {} (default 1)", scale_target))
       ->type_name("S");
 }
 
 std::string shape_flags_given(const ShapeFlags& o) {
-  const std::pair<const char*, bool> flags[] = {
-      {"--shape", o.shape.has_value()},         {"--diameter", o.diameter.has_value()},
-      {"--aspect-ratio", o.aspect_ratio.has_value()}, {"--semi-axes", o.semi_axes.has_value()},
-      {"--length", o.length.has_value()},       {"--size", o.size.has_value()},
-      {"--exponents", o.exponents.has_value()}, {"--mesh", o.mesh.has_value()},
-      {"--scale", o.scale.has_value()}};
+  const std::pair<const char*, bool> flags[] = {{"--shape", o.shape.has_value()},
+                                                {"--diameter", o.diameter.has_value()},
+                                                {"--aspect-ratio", o.aspect_ratio.has_value()},
+                                                {"--semi-axes", o.semi_axes.has_value()},
+                                                {"--length", o.length.has_value()},
+                                                {"--size", o.size.has_value()},
+                                                {"--exponents", o.exponents.has_value()},
+                                                {"--mesh", o.mesh.has_value()},
+                                                {"--scale", o.scale.has_value()}};
   std::string given;
   for (const auto& [flag, present] : flags) {
     if (present) given += (given.empty() ? "" : ", ") + std::string(flag);
@@ -59,13 +66,15 @@ std::string shape_flags_given(const ShapeFlags& o) {
 body::ShapeSpec shape_spec_from_flags(const ShapeFlags& o) {
   body::ShapeSpec spec;
   if (o.mesh) {
-    if (o.shape && *o.shape != "mesh") throw InputError(fmt::format("--mesh: cannot be used with --shape {}", *o.shape));
+    if (o.shape && *o.shape != "mesh")
+      throw InputError(fmt::format("--mesh: cannot be used with --shape {}", *o.shape));
     spec.shape = "mesh";
     spec.file = *o.mesh;
   } else if (o.shape) {
     spec.shape = *o.shape;
   } else {
-    throw InputError("--shape: give a shape (sphere, spheroid, ellipsoid, cylinder, cuboid, superellipsoid) or --mesh FILE");
+    throw InputError(
+        "--shape: give a shape (sphere, spheroid, ellipsoid, cylinder, cuboid, superellipsoid) or --mesh FILE");
   }
   if (o.diameter) spec.diameter = parse_number(*o.diameter, "--diameter");
   if (o.aspect_ratio) spec.aspect_ratio = parse_number(*o.aspect_ratio, "--aspect-ratio");

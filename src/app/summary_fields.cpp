@@ -13,7 +13,9 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-json number_or_null(bool present, double value) { return present && std::isfinite(value) ? json(value) : json(nullptr); }
+json number_or_null(bool present, double value) {
+  return present && std::isfinite(value) ? json(value) : json(nullptr);
+}
 
 }  // namespace
 
@@ -40,8 +42,10 @@ analysis::Analysis analyse_timeseries(const coupling::SimulationSetup& setup, co
   const analysis::SettlingSeries series =
       analysis::settling_series(analysis::read_timeseries_csv(timeseries)).since(setup.release_time_si);
   if (series.size() < 2)
-    throw InputError(fmt::format("{}: {} samples after the release at particle.release_time = {:g} s; the analysis "
-                                 "needs at least 2", timeseries.string(), series.size(), setup.release_time_si));
+    throw InputError(
+        fmt::format("{}: {} samples after the release at particle.release_time = {:g} s; the analysis "
+                    "needs at least 2",
+                    timeseries.string(), series.size(), setup.release_time_si));
   return analysis::analyse(series, analysis::particle_properties(setup), options);
 }
 

@@ -24,6 +24,7 @@ analysis::Analysis analyse_timeseries(const coupling::SimulationSetup& setup, co
 /// The analysis fields (analysis::to_json) plus "correlations": every law's prediction for the
 /// broadside orientation (settle predict's default), each with "ratio_to_run", its terminal speed
 /// over the run's (null when the law has no solution or the run did not move).
-nlohmann::ordered_json analysis_summary_fields(const coupling::SimulationSetup& setup, const analysis::Analysis& result);
+nlohmann::ordered_json analysis_summary_fields(const coupling::SimulationSetup& setup,
+                                               const analysis::Analysis& result);
 
 }  // namespace settle::app

@@ -11,9 +11,7 @@ Eigen::Quaterniond about_axis(double angle, const Eigen::Vector3d& axis) {
 }
 
 /// The set-1 pitch of a matrix: -asin(z31), written as in set1_angles_from_matrix.
-double pitch_of(const Eigen::Matrix3d& z) {
-  return std::atan2(-z(2, 0), std::hypot(z(2, 1), z(2, 2)));
-}
+double pitch_of(const Eigen::Matrix3d& z) { return std::atan2(-z(2, 0), std::hypot(z(2, 1), z(2, 2))); }
 
 }  // namespace
 
@@ -37,20 +35,17 @@ Attitude Attitude::from_quaternion(const Eigen::Quaterniond& body_to_inertial) {
   return from_matrix(body_to_inertial.normalized().toRotationMatrix());
 }
 
-Eigen::Matrix3d Attitude::body_to_inertial() const {
-  return attitude::body_to_inertial(set_, angles_);
-}
+Eigen::Matrix3d Attitude::body_to_inertial() const { return attitude::body_to_inertial(set_, angles_); }
 
 Eigen::Quaterniond Attitude::quaternion() const {
   // C_b^n = Rz(psi) Ry(theta) Rx(gamma) (set 1) or Rz(psi_r) Rx(gamma_r) Ry(theta_r) (set 2);
   // composing the axis quaternions avoids the round trip through a matrix.
   const Eigen::Vector3d& a = angles_;
-  Eigen::Quaterniond q =
-      set_ == EulerSet::set1
-          ? about_axis(a[0], Eigen::Vector3d::UnitZ()) * about_axis(a[1], Eigen::Vector3d::UnitY()) *
-                about_axis(a[2], Eigen::Vector3d::UnitX())
-          : about_axis(a[0], Eigen::Vector3d::UnitZ()) * about_axis(a[2], Eigen::Vector3d::UnitX()) *
-                about_axis(a[1], Eigen::Vector3d::UnitY());
+  Eigen::Quaterniond q = set_ == EulerSet::set1
+                             ? about_axis(a[0], Eigen::Vector3d::UnitZ()) * about_axis(a[1], Eigen::Vector3d::UnitY()) *
+                                   about_axis(a[2], Eigen::Vector3d::UnitX())
+                             : about_axis(a[0], Eigen::Vector3d::UnitZ()) * about_axis(a[2], Eigen::Vector3d::UnitX()) *
+                                   about_axis(a[1], Eigen::Vector3d::UnitY());
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();
   return q;
 }

@@ -46,8 +46,8 @@ double parse_number(std::string_view field, const std::string& where) {
 
 void check_header(std::string_view line, const std::string& path) {
   const auto fields = split_fields(line);
-  const bool matches = fields.size() == 4 && fields[0] == "t" && fields[1] == "wx" &&
-                       fields[2] == "wy" && fields[3] == "wz";
+  const bool matches =
+      fields.size() == 4 && fields[0] == "t" && fields[1] == "wx" && fields[2] == "wy" && fields[3] == "wz";
   if (!matches) {
     throw InputError(fmt::format("{}: line 1: header must be t,wx,wy,wz, got '{}'", path, trim(line)));
   }
@@ -84,17 +84,15 @@ BodyRateSeries BodyRateSeries::read_csv(const std::string& path) {
     const std::string where = fmt::format("{}: line {}", path, line_number);
     const auto fields = split_fields(line);
     if (fields.size() != 4) {
-      throw InputError(fmt::format("{}: expected 4 comma-separated numbers t,wx,wy,wz, got {} fields",
-                                   where, fields.size()));
+      throw InputError(
+          fmt::format("{}: expected 4 comma-separated numbers t,wx,wy,wz, got {} fields", where, fields.size()));
     }
     const double t = parse_number(fields[0], where);
     if (!times.empty() && !(t > times.back())) {
-      throw InputError(fmt::format("{}: times must increase strictly, got {} after {}", where, t,
-                                   times.back()));
+      throw InputError(fmt::format("{}: times must increase strictly, got {} after {}", where, t, times.back()));
     }
     times.push_back(t);
-    rates.emplace_back(parse_number(fields[1], where), parse_number(fields[2], where),
-                       parse_number(fields[3], where));
+    rates.emplace_back(parse_number(fields[1], where), parse_number(fields[2], where), parse_number(fields[3], where));
   }
   if (file.bad()) throw InputError(fmt::format("cannot read '{}'", path));
   if (times.size() < 2) {
@@ -105,8 +103,8 @@ BodyRateSeries BodyRateSeries::read_csv(const std::string& path) {
 
 Eigen::Vector3d BodyRateSeries::at(double t_si) const {
   if (!(t_si >= times_.front() && t_si <= times_.back())) {
-    throw std::out_of_range(fmt::format("time {} outside the body-rate series [{}, {}]", t_si,
-                                        times_.front(), times_.back()));
+    throw std::out_of_range(
+        fmt::format("time {} outside the body-rate series [{}, {}]", t_si, times_.front(), times_.back()));
   }
   // First sample strictly after t, clamped so that t = end_time() uses the last interval.
   const auto after = std::upper_bound(times_.begin() + 1, times_.end() - 1, t_si);

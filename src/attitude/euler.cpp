@@ -21,7 +21,7 @@ Eigen::Matrix3d elementary_theta(double theta) {
   const double c = std::cos(theta);
   const double s = std::sin(theta);
   Eigen::Matrix3d m;
-  m << c, 0.0, -s,   //
+  m << c, 0.0, -s,    //
       0.0, 1.0, 0.0,  //
       s, 0.0, c;
   return m;
@@ -66,8 +66,7 @@ Eigen::Matrix3d body_to_inertial(EulerSet set, const Eigen::Vector3d& angles) {
 Eigen::Vector3d set1_body_rates(const Eigen::Vector3d& angles, const Eigen::Vector3d& angle_rates) {
   const Eigen::Matrix3d c_gamma = elementary_gamma(angles[2]);
   const Eigen::Matrix3d c_theta = elementary_theta(angles[1]);
-  return Eigen::Vector3d(angle_rates[2], 0.0, 0.0) +
-         c_gamma * Eigen::Vector3d(0.0, angle_rates[1], 0.0) +
+  return Eigen::Vector3d(angle_rates[2], 0.0, 0.0) + c_gamma * Eigen::Vector3d(0.0, angle_rates[1], 0.0) +
          c_gamma * c_theta * Eigen::Vector3d(0.0, 0.0, angle_rates[0]);
 }
 
@@ -76,8 +75,7 @@ Eigen::Vector3d set2_body_rates(const Eigen::Vector3d& angles, const Eigen::Vect
   // the earlier ones are carried through the later elementary rotations.
   const Eigen::Matrix3d c_theta = elementary_theta(angles[1]);
   const Eigen::Matrix3d c_gamma = elementary_gamma(angles[2]);
-  return Eigen::Vector3d(0.0, angle_rates[1], 0.0) +
-         c_theta * Eigen::Vector3d(angle_rates[2], 0.0, 0.0) +
+  return Eigen::Vector3d(0.0, angle_rates[1], 0.0) + c_theta * Eigen::Vector3d(angle_rates[2], 0.0, 0.0) +
          c_theta * c_gamma * Eigen::Vector3d(0.0, 0.0, angle_rates[0]);
 }
 
@@ -103,10 +101,8 @@ Eigen::Vector3d set2_angle_rates(const Eigen::Vector3d& angles, const Eigen::Vec
   return {psi_rate, theta_rate, gamma_rate};
 }
 
-Eigen::Vector3d angle_rates(EulerSet set, const Eigen::Vector3d& angles,
-                            const Eigen::Vector3d& omega_b) {
-  return set == EulerSet::set1 ? set1_angle_rates(angles, omega_b)
-                               : set2_angle_rates(angles, omega_b);
+Eigen::Vector3d angle_rates(EulerSet set, const Eigen::Vector3d& angles, const Eigen::Vector3d& omega_b) {
+  return set == EulerSet::set1 ? set1_angle_rates(angles, omega_b) : set2_angle_rates(angles, omega_b);
 }
 
 // The middle angle of each sequence is the seed's arcsine (theta = -asin(z31) in S12,
@@ -132,8 +128,7 @@ Eigen::Vector3d set1_angles_from_matrix(const Eigen::Matrix3d& z) {
   // Rz(psi) = z Rx(gamma)^T Ry(theta)^T; its first column is (cos psi, sin psi, 0).
   const double cth = std::cos(theta), sth = std::sin(theta);
   const double cga = std::cos(gamma), sga = std::sin(gamma);
-  const Eigen::Vector3d first_column =
-      cth * z.col(0) + sth * sga * z.col(1) + sth * cga * z.col(2);
+  const Eigen::Vector3d first_column = cth * z.col(0) + sth * sga * z.col(1) + sth * cga * z.col(2);
   const double psi = std::atan2(first_column[1], first_column[0]);
   return {psi, theta, gamma};
 }
@@ -148,8 +143,7 @@ Eigen::Vector3d set2_angles_from_matrix(const Eigen::Matrix3d& z) {
 }
 
 Eigen::Vector3d angles_from_matrix(EulerSet set, const Eigen::Matrix3d& body_to_inertial) {
-  return set == EulerSet::set1 ? set1_angles_from_matrix(body_to_inertial)
-                               : set2_angles_from_matrix(body_to_inertial);
+  return set == EulerSet::set1 ? set1_angles_from_matrix(body_to_inertial) : set2_angles_from_matrix(body_to_inertial);
 }
 
 double wrap_angle(double angle) {

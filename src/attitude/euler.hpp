@@ -50,24 +50,19 @@ enum class EulerSet : int { set1 = 1, set2 = 2 };
 
 /// S6: body rates from set-1 angle rates, omega_b = (gamma_dot,0,0) + C_gamma (0,theta_dot,0)
 /// + C_gamma C_theta (0,0,psi_dot). Regular everywhere.
-[[nodiscard]] Eigen::Vector3d set1_body_rates(const Eigen::Vector3d& angles,
-                                              const Eigen::Vector3d& angle_rates);
+[[nodiscard]] Eigen::Vector3d set1_body_rates(const Eigen::Vector3d& angles, const Eigen::Vector3d& angle_rates);
 /// Set-2 counterpart of S6 (derived here from the sequence psi_r -> gamma_r -> theta_r):
 /// omega_b = (0,theta_r_dot,0) + C_theta_r (gamma_r_dot,0,0) + C_theta_r C_gamma_r (0,0,psi_r_dot).
-[[nodiscard]] Eigen::Vector3d set2_body_rates(const Eigen::Vector3d& angles,
-                                              const Eigen::Vector3d& angle_rates);
+[[nodiscard]] Eigen::Vector3d set2_body_rates(const Eigen::Vector3d& angles, const Eigen::Vector3d& angle_rates);
 
 /// S7: set-1 angle rates (psi_dot, theta_dot, gamma_dot) from body rates. Singular at
 /// cos(theta) = 0; the dual-Euler rule keeps |cos(theta)| >= cos(pi/4) when it is used.
-[[nodiscard]] Eigen::Vector3d set1_angle_rates(const Eigen::Vector3d& angles,
-                                               const Eigen::Vector3d& omega_b);
+[[nodiscard]] Eigen::Vector3d set1_angle_rates(const Eigen::Vector3d& angles, const Eigen::Vector3d& omega_b);
 /// S9: set-2 angle rates (psi_r_dot, theta_r_dot, gamma_r_dot) from body rates. Singular at
 /// cos(gamma_r) = 0.
-[[nodiscard]] Eigen::Vector3d set2_angle_rates(const Eigen::Vector3d& angles,
-                                               const Eigen::Vector3d& omega_b);
+[[nodiscard]] Eigen::Vector3d set2_angle_rates(const Eigen::Vector3d& angles, const Eigen::Vector3d& omega_b);
 /// S7 or S9 according to the set.
-[[nodiscard]] Eigen::Vector3d angle_rates(EulerSet set, const Eigen::Vector3d& angles,
-                                          const Eigen::Vector3d& omega_b);
+[[nodiscard]] Eigen::Vector3d angle_rates(EulerSet set, const Eigen::Vector3d& angles, const Eigen::Vector3d& omega_b);
 
 /// S12: set-1 angles of a rotation matrix C_b^n (assumed orthonormal). Results lie in
 /// psi in (-pi, pi], theta in [-pi/2, pi/2], gamma in (-pi, pi]. See euler.cpp for how the
@@ -78,8 +73,7 @@ enum class EulerSet : int { set1 = 1, set2 = 2 };
 /// theta_r in (-pi, pi], gamma_r in [-pi/2, pi/2].
 [[nodiscard]] Eigen::Vector3d set2_angles_from_matrix(const Eigen::Matrix3d& body_to_inertial);
 /// S11 or S12 according to the set.
-[[nodiscard]] Eigen::Vector3d angles_from_matrix(EulerSet set,
-                                                 const Eigen::Matrix3d& body_to_inertial);
+[[nodiscard]] Eigen::Vector3d angles_from_matrix(EulerSet set, const Eigen::Matrix3d& body_to_inertial);
 
 /// The angle wrapped into (-pi, pi].
 [[nodiscard]] double wrap_angle(double angle);

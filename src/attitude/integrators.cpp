@@ -13,8 +13,7 @@ bool apply_switching_rule(Attitude& attitude) {
   return true;
 }
 
-Attitude rk4_angles_step(const Attitude& attitude, double t, double dt,
-                         const BodyRateFunction& omega_b) {
+Attitude rk4_angles_step(const Attitude& attitude, double t, double dt, const BodyRateFunction& omega_b) {
   const EulerSet set = attitude.set();
   const auto derivative = [&](double time, const Eigen::Vector3d& angles) -> Eigen::Vector3d {
     return angle_rates(set, angles, omega_b(time));
@@ -43,8 +42,7 @@ Eigen::Vector4d quaternion_rate(const Eigen::Vector4d& q_coeffs, const Eigen::Ve
   return 0.5 * (q * pure).coeffs();
 }
 
-Eigen::Quaterniond quaternion_step(const Eigen::Quaterniond& q, double t, double dt,
-                                   const BodyRateFunction& omega_b) {
+Eigen::Quaterniond quaternion_step(const Eigen::Quaterniond& q, double t, double dt, const BodyRateFunction& omega_b) {
   const auto derivative = [&](double time, const Eigen::Vector4d& coeffs) -> Eigen::Vector4d {
     return quaternion_rate(coeffs, omega_b(time));
   };

@@ -30,8 +30,7 @@ bool apply_switching_rule(Attitude& attitude);
 
 /// One classical RK4 step of the active set's angles (S7 or S9) from t to t + dt, without
 /// switching.
-[[nodiscard]] Attitude rk4_angles_step(const Attitude& attitude, double t, double dt,
-                                       const BodyRateFunction& omega_b);
+[[nodiscard]] Attitude rk4_angles_step(const Attitude& attitude, double t, double dt, const BodyRateFunction& omega_b);
 
 /// One dual-Euler step: the switching rule, then one RK4 step of the active set's angles.
 /// Returns true when the rule switched the set at the start of this step.
@@ -45,8 +44,7 @@ bool dual_euler_step(Attitude& attitude, double dt, const Eigen::Vector3d& omega
 
 /// q' = 0.5 q (x) (0, omega_b) for the body-to-inertial unit quaternion q, as Eigen's
 /// coefficient vector (x, y, z, w).
-[[nodiscard]] Eigen::Vector4d quaternion_rate(const Eigen::Vector4d& q_coeffs,
-                                              const Eigen::Vector3d& omega_b);
+[[nodiscard]] Eigen::Vector4d quaternion_rate(const Eigen::Vector4d& q_coeffs, const Eigen::Vector3d& omega_b);
 
 /// One RK4 step of q' = 0.5 q (x) (0, omega_b), normalised afterwards (RK4 does not keep
 /// |q| = 1 exactly; renormalising removes that drift without changing the rotation).

@@ -58,18 +58,17 @@ bool dual_euler_spin_step(SpinState& state, const BodyInertia& inertia, double t
   return switched;
 }
 
-void quaternion_spin_step(QuaternionSpinState& state, const BodyInertia& inertia, double t,
-                          double dt, const BodyTorqueFunction& torque_b) {
+void quaternion_spin_step(QuaternionSpinState& state, const BodyInertia& inertia, double t, double dt,
+                          const BodyTorqueFunction& torque_b) {
   const auto derivative = [&](double time, const Vector7d& y) -> Vector7d {
     const Eigen::Vector3d omega = y.head<3>();
     const Eigen::Vector4d coeffs = y.tail<4>();
     // Stage quaternions are not exactly unit; the torque sees the rotation they represent.
     const Eigen::Vector3d torque =
-        torque_b ? torque_b(time, omega,
-                            Eigen::Quaterniond(coeffs[3], coeffs[0], coeffs[1], coeffs[2])
-                                .normalized()
-                                .toRotationMatrix())
-                 : Eigen::Vector3d::Zero();
+        torque_b
+            ? torque_b(time, omega,
+                       Eigen::Quaterniond(coeffs[3], coeffs[0], coeffs[1], coeffs[2]).normalized().toRotationMatrix())
+            : Eigen::Vector3d::Zero();
     Vector7d rate;
     rate << angular_acceleration_b(inertia, omega, torque), quaternion_rate(coeffs, omega);
     return rate;

@@ -29,25 +29,24 @@ class BodyInertia {
 };
 
 /// domega_b/dt from Euler's equations: I^-1 (T_b - omega_b x (I omega_b)). Body frame.
-[[nodiscard]] Eigen::Vector3d angular_acceleration_b(const BodyInertia& inertia,
-                                                     const Eigen::Vector3d& omega_b,
+[[nodiscard]] Eigen::Vector3d angular_acceleration_b(const BodyInertia& inertia, const Eigen::Vector3d& omega_b,
                                                      const Eigen::Vector3d& torque_b);
 
 /// Body-frame torque (N m) as a function of time (s), body rates (rad/s) and the attitude
 /// matrix C_b^n. An empty function means no torque.
-using BodyTorqueFunction = std::function<Eigen::Vector3d(
-    double t, const Eigen::Vector3d& omega_b, const Eigen::Matrix3d& body_to_inertial)>;
+using BodyTorqueFunction =
+    std::function<Eigen::Vector3d(double t, const Eigen::Vector3d& omega_b, const Eigen::Matrix3d& body_to_inertial)>;
 
 /// Body rates and attitude in the dual-Euler atlas.
 struct SpinState {
   Eigen::Vector3d omega_b = Eigen::Vector3d::Zero();  ///< body frame, rad/s
-  Attitude attitude;                                   ///< body to inertial
+  Attitude attitude;                                  ///< body to inertial
 };
 
 /// Body rates and attitude as a unit quaternion (the reference method).
 struct QuaternionSpinState {
-  Eigen::Vector3d omega_b = Eigen::Vector3d::Zero();                    ///< body frame, rad/s
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();      ///< body to inertial
+  Eigen::Vector3d omega_b = Eigen::Vector3d::Zero();                ///< body frame, rad/s
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< body to inertial
 };
 
 /// One step of the rotational dynamics with the dual-Euler attitude: the switching rule at
@@ -58,8 +57,8 @@ bool dual_euler_spin_step(SpinState& state, const BodyInertia& inertia, double t
 
 /// One step of the rotational dynamics with the quaternion attitude: RK4 of
 /// (omega_b, q), q normalised after the step.
-void quaternion_spin_step(QuaternionSpinState& state, const BodyInertia& inertia, double t,
-                          double dt, const BodyTorqueFunction& torque_b = {});
+void quaternion_spin_step(QuaternionSpinState& state, const BodyInertia& inertia, double t, double dt,
+                          const BodyTorqueFunction& torque_b = {});
 
 /// Rotational kinetic energy 0.5 omega_b . (I omega_b), J.
 [[nodiscard]] double rotational_energy(const BodyInertia& inertia, const Eigen::Vector3d& omega_b);

@@ -23,8 +23,8 @@ double carlson_rf(double x, double y, double z) {
   require_non_negative(x, y, z, "carlson_rf");
   if ((x == 0.0) + (y == 0.0) + (z == 0.0) > 1) throw std::domain_error("carlson_rf: two zero arguments");
   const double a0 = (x + y + z) / 3.0;
-  double q = std::pow(3.0 * kUnitRoundoff, -1.0 / 6.0) *
-             std::max({std::abs(a0 - x), std::abs(a0 - y), std::abs(a0 - z)});
+  double q =
+      std::pow(3.0 * kUnitRoundoff, -1.0 / 6.0) * std::max({std::abs(a0 - x), std::abs(a0 - y), std::abs(a0 - z)});
   double a = a0;
   while (q > std::abs(a)) {
     const double sx = std::sqrt(x), sy = std::sqrt(y), sz = std::sqrt(z);
@@ -45,8 +45,8 @@ double carlson_rd(double x, double y, double z) {
   require_non_negative(x, y, z, "carlson_rd");
   if (z == 0.0 || (x == 0.0 && y == 0.0)) throw std::domain_error("carlson_rd: z = 0 or x = y = 0");
   const double a0 = (x + y + 3.0 * z) / 5.0;
-  double q = std::pow(0.25 * kUnitRoundoff, -1.0 / 6.0) *
-             std::max({std::abs(a0 - x), std::abs(a0 - y), std::abs(a0 - z)});
+  double q =
+      std::pow(0.25 * kUnitRoundoff, -1.0 / 6.0) * std::max({std::abs(a0 - x), std::abs(a0 - y), std::abs(a0 - z)});
   double a = a0;
   double tail_sum = 0.0;
   double weight = 1.0;  // 4^-m
@@ -75,7 +75,7 @@ double carlson_rd(double x, double y, double z) {
 double carlson_rg(double x, double y, double z) {
   require_non_negative(x, y, z, "carlson_rg");
   double v[3] = {x, y, z};
-  std::sort(v, v + 3);  // v[0] <= v[1] <= v[2]
+  std::sort(v, v + 3);                            // v[0] <= v[1] <= v[2]
   if (v[1] == 0.0) return 0.5 * std::sqrt(v[2]);  // R_G(0, 0, z) = sqrt(z) / 2
   // DLMF 19.21.10 with the middle value as the distinguished argument: (x-z)(y-z) <= 0, so
   // all three terms are non-negative.

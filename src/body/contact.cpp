@@ -27,9 +27,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> tangent_basis(const Eigen::Vector3d&
   return {t1, u.cross(t1)};
 }
 
-Wrench operator+(const Wrench& a, const Wrench& b) {
-  return {a.force_si + b.force_si, a.torque_si + b.torque_si};
-}
+Wrench operator+(const Wrench& a, const Wrench& b) { return {a.force_si + b.force_si, a.torque_si + b.torque_si}; }
 
 }  // namespace
 
@@ -172,9 +170,8 @@ Wrench WallContact::wrench(const RigidBody& body, const RigidBodyState& state) c
     const Eigen::Vector3d arm = arm_to_wall(*shape_, state, rotation, wall);
     const double speed_n = normal_speed(state, omega_n, arm, wall);
     const double impact_speed = impact_speeds_si_[i].value_or(std::max(-speed_n, 0.0));
-    const SpringDashpot law =
-        spring_dashpot(mass.mass, effective_mass(mass.mass, inverse_inertia_n, arm, wall.normal), parameters_,
-                       restitution_at(impact_speed, mass.mass));
+    const SpringDashpot law = spring_dashpot(mass.mass, effective_mass(mass.mass, inverse_inertia_n, arm, wall.normal),
+                                             parameters_, restitution_at(impact_speed, mass.mass));
     const Eigen::Vector3d force = (law.stiffness * overlap - law.damping * speed_n) * wall.normal;
     total.force_si += force;
     total.torque_si += arm.cross(force);

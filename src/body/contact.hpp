@@ -194,8 +194,8 @@ double max_overlap_bound(double load_si, double impact_speed_si, double stiffnes
 struct ContactStep {
   Wrench mean_wrench;  ///< contact impulse and angular impulse over the step divided by dt
   double min_gap_si = std::numeric_limits<double>::infinity();  ///< smallest gap seen at a substep's start or end
-  int substeps = 1;    ///< 1 when no wall was within reach
-  bool touching = false;  ///< some wall's contact force acted during the step
+  int substeps = 1;                                             ///< 1 when no wall was within reach
+  bool touching = false;                                        ///< some wall's contact force acted during the step
 };
 
 /// The contact model for one body and a set of plane walls.

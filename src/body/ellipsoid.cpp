@@ -96,7 +96,8 @@ Eigen::Vector3d closest_on_ellipsoid(const Eigen::Vector3d& e, const Eigen::Vect
 
 }  // namespace
 
-Ellipsoid::Ellipsoid(const Eigen::Vector3d& semi_axes, std::string kind) : semi_axes_(semi_axes), kind_(std::move(kind)) {
+Ellipsoid::Ellipsoid(const Eigen::Vector3d& semi_axes, std::string kind)
+    : semi_axes_(semi_axes), kind_(std::move(kind)) {
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(semi_axes_(i)) || semi_axes_(i) <= 0.0) {
       throw InputError(fmt::format("{}: semi-axis {} must be finite and > 0, got {}", kind_, "abc"[i], semi_axes_(i)));
@@ -104,9 +105,7 @@ Ellipsoid::Ellipsoid(const Eigen::Vector3d& semi_axes, std::string kind) : semi_
   }
 }
 
-Ellipsoid Ellipsoid::sphere(double diameter) {
-  return Ellipsoid(Eigen::Vector3d::Constant(0.5 * diameter), "sphere");
-}
+Ellipsoid Ellipsoid::sphere(double diameter) { return Ellipsoid(Eigen::Vector3d::Constant(0.5 * diameter), "sphere"); }
 
 Ellipsoid Ellipsoid::spheroid(double diameter, double aspect_ratio) {
   return Ellipsoid(Eigen::Vector3d(0.5 * diameter, 0.5 * diameter, 0.5 * diameter * aspect_ratio), "spheroid");
@@ -170,7 +169,8 @@ VolumeMoments Ellipsoid::volume_moments() const {
 
 double Ellipsoid::surface_area() const {
   const Eigen::Vector3d inverse_squares = semi_axes_.cwiseProduct(semi_axes_).cwiseInverse();
-  return 4.0 * std::numbers::pi * semi_axes_.prod() * carlson_rg(inverse_squares.x(), inverse_squares.y(), inverse_squares.z());
+  return 4.0 * std::numbers::pi * semi_axes_.prod() *
+         carlson_rg(inverse_squares.x(), inverse_squares.y(), inverse_squares.z());
 }
 
 double Ellipsoid::projected_area(const Eigen::Vector3d& direction) const {
@@ -196,9 +196,11 @@ SurfaceMarkers Ellipsoid::surface_markers(double spacing) const {
   if (is_sphere()) return fibonacci_sphere_markers(semi_axes_.x(), spacing);
   const Eigen::Vector3d axes = semi_axes_;
   const TriangleMesh fine = cube_sphere_mesh_with_max_edge(
-      axes, kPatchEdgeFraction * spacing, [axes](const Eigen::Vector3d& u) { return Eigen::Vector3d(axes.cwiseProduct(u.normalized())); });
-  SurfaceMarkers markers = cluster_patches_into_markers(
-      patches_from_mesh(fine, 2.0 * kPatchEdgeFraction * spacing), spacing, [this](const Eigen::Vector3d& p) { return closest_surface_point(p); });
+      axes, kPatchEdgeFraction * spacing,
+      [axes](const Eigen::Vector3d& u) { return Eigen::Vector3d(axes.cwiseProduct(u.normalized())); });
+  SurfaceMarkers markers =
+      cluster_patches_into_markers(patches_from_mesh(fine, 2.0 * kPatchEdgeFraction * spacing), spacing,
+                                   [this](const Eigen::Vector3d& p) { return closest_surface_point(p); });
   for (std::size_t i = 0; i < markers.size(); ++i) markers.normals[i] = outward_normal(markers.positions[i]);
   return markers;
 }

@@ -14,8 +14,8 @@ constexpr double kDiagonalTolerance = 1e-12;
 
 bool is_diagonal(const Eigen::Matrix3d& m) {
   const double scale = m.cwiseAbs().maxCoeff();
-  const double off = std::max({std::abs(m(0, 1)), std::abs(m(0, 2)), std::abs(m(1, 2)),
-                               std::abs(m(1, 0)), std::abs(m(2, 0)), std::abs(m(2, 1))});
+  const double off = std::max({std::abs(m(0, 1)), std::abs(m(0, 2)), std::abs(m(1, 2)), std::abs(m(1, 0)),
+                               std::abs(m(2, 0)), std::abs(m(2, 1))});
   return off <= kDiagonalTolerance * scale;
 }
 

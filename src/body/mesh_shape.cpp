@@ -58,9 +58,10 @@ std::vector<double> shell_volumes(const TriangleMesh& mesh, const std::vector<in
 // and its mass properties would come out inf, NaN or 0 (found by fuzz_stl, docs/fuzzing.md).
 [[noreturn]] void refuse_size(const std::string& source, std::string_view too, double largest_coordinate,
                               std::string_view what) {
-  throw InputError(fmt::format("{}: the mesh is too {} for double precision (largest coordinate {:.3g}): its {}; "
-                               "rescale the mesh (its scale factor) or give its coordinates in other units",
-                               source, too, largest_coordinate, what));
+  throw InputError(
+      fmt::format("{}: the mesh is too {} for double precision (largest coordinate {:.3g}): its {}; "
+                  "rescale the mesh (its scale factor) or give its coordinates in other units",
+                  source, too, largest_coordinate, what));
 }
 
 void check_size_representable(double diagonal, double largest_coordinate, const std::vector<double>& shell_volume,
@@ -102,22 +103,25 @@ MeshShape::MeshShape(TriangleMesh mesh, std::string source) : mesh_(std::move(me
   check_size_representable(diagonal, largest_coordinate, volumes, source);
   const double total = std::accumulate(volumes.begin(), volumes.end(), 0.0);
   if (std::abs(total) <= 1e-10 * diagonal * diagonal * diagonal) {
-    throw InputError(fmt::format("{}: the mesh encloses no volume (volume {:.3g} for a bounding-box diagonal of {:.3g})",
-                                 source, total, diagonal));
+    throw InputError(
+        fmt::format("{}: the mesh encloses no volume (volume {:.3g} for a bounding-box diagonal of {:.3g})", source,
+                    total, diagonal));
   }
   const int inward = static_cast<int>(std::count_if(volumes.begin(), volumes.end(), [](double v) { return v < 0.0; }));
   if (inward > 0 && inward < shells) {
-    throw InputError(fmt::format("{}: the mesh has {} closed shells and {} of them are oriented inward (an inverted "
-                                 "shell or an internal cavity); every shell must enclose its own solid with outward "
-                                 "normals",
-                                 source, shells, inward));
+    throw InputError(
+        fmt::format("{}: the mesh has {} closed shells and {} of them are oriented inward (an inverted "
+                    "shell or an internal cavity); every shell must enclose its own solid with outward "
+                    "normals",
+                    source, shells, inward));
   }
   if (inward == shells) {
     for (auto& tri : mesh_.triangles) std::swap(tri[1], tri[2]);
     for (auto& n : neighbours) n = {n[2], n[1], n[0]};  // edge k of the reversed triangle is old edge 2-k
     notes_.push_back(source + ": all faces were oriented inward (negative volume); the orientation was reversed");
   }
-  if (shells > 1) notes_.push_back(fmt::format("{}: the mesh has {} separate shells, treated as one rigid body", source, shells));
+  if (shells > 1)
+    notes_.push_back(fmt::format("{}: the mesh has {} separate shells, treated as one rigid body", source, shells));
 
   moments_ = polyhedron_moments(mesh_);
   for (auto& v : mesh_.vertices) v -= moments_.centroid;  // body frame: origin at the centroid
@@ -133,7 +137,8 @@ MeshShape::MeshShape(TriangleMesh mesh, std::string source) : mesh_(std::move(me
   // sum of its faces' normals weighted by the face angle at the vertex.
   const std::size_t count = mesh_.triangles.size();
   face_normals_.resize(count);
-  for (std::size_t t = 0; t < count; ++t) face_normals_[t] = triangle_vector_area(mesh_, static_cast<int>(t)).normalized();
+  for (std::size_t t = 0; t < count; ++t)
+    face_normals_[t] = triangle_vector_area(mesh_, static_cast<int>(t)).normalized();
   edge_normals_.resize(count);
   vertex_normals_.assign(mesh_.vertices.size(), Eigen::Vector3d::Zero());
   for (std::size_t t = 0; t < count; ++t) {

@@ -55,7 +55,8 @@ class PointGrid {
     return best;
   }
   int nearest(const Eigen::Vector3d& p, int exclude = -1) const {
-    return nearest(p, [](int) { return true; }, exclude);
+    return nearest(
+        p, [](int) { return true; }, exclude);
   }
 
  private:

@@ -93,8 +93,8 @@ double scanline_projected_area(const TriangleMesh& mesh, const Eigen::Vector3d& 
   return covered * row_height;
 }
 
-double scanline_mean_projected_area_perpendicular(const TriangleMesh& mesh, const Eigen::Vector3d& axis,
-                                                  int directions, int rows) {
+double scanline_mean_projected_area_perpendicular(const TriangleMesh& mesh, const Eigen::Vector3d& axis, int directions,
+                                                  int rows) {
   const auto [u, v] = orthonormal_complement(axis);
   double sum = 0.0;
   for (int k = 0; k < directions; ++k) {

@@ -26,8 +26,8 @@ double scanline_projected_area(const TriangleMesh& mesh, const Eigen::Vector3d& 
 /// pi/directions on the circle perpendicular to the unit axis (the shadow has period pi, so
 /// this is the periodic trapezoidal rule; for non-convex bodies the shadow has kinks in the
 /// angle and the rule converges as 1/directions^2).
-double scanline_mean_projected_area_perpendicular(const TriangleMesh& mesh, const Eigen::Vector3d& axis,
-                                                  int directions, int rows);
+double scanline_mean_projected_area_perpendicular(const TriangleMesh& mesh, const Eigen::Vector3d& axis, int directions,
+                                                  int rows);
 
 /// Two unit vectors completing the unit vector n to a right-handed orthonormal basis.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> orthonormal_complement(const Eigen::Vector3d& n);

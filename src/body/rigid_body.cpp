@@ -63,9 +63,7 @@ Eigen::Vector3d RigidBody::net_weight_si() const {
   return (mass_properties_.mass - displaced_mass) * environment_.gravity_si;
 }
 
-Eigen::Vector3d RigidBody::angular_velocity_n_si() const {
-  return body_to_inertial() * state_.angular_velocity_b_si;
-}
+Eigen::Vector3d RigidBody::angular_velocity_n_si() const { return body_to_inertial() * state_.angular_velocity_b_si; }
 
 Eigen::Vector3d RigidBody::angular_momentum_n_si() const {
   return body_to_inertial() * (inertia_.tensor() * state_.angular_velocity_b_si);

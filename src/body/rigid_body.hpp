@@ -50,8 +50,8 @@ enum class MotionKind { free, towed, fixed };
 /// The surroundings that act on every body: a fluid of uniform density at rest (for
 /// buoyancy) and gravity.
 struct Environment {
-  double fluid_density_si = 0.0;                            ///< kg/m^3; 0 is vacuum
-  Eigen::Vector3d gravity_si = Eigen::Vector3d::Zero();    ///< m/s^2, inertial
+  double fluid_density_si = 0.0;                         ///< kg/m^3; 0 is vacuum
+  Eigen::Vector3d gravity_si = Eigen::Vector3d::Zero();  ///< m/s^2, inertial
 };
 
 /// The dynamic state. The attitude is the dual-Euler atlas chart; matrix and quaternion are
@@ -86,9 +86,9 @@ struct Wrench {
 /// step to the next (a = a_est), the added terms cancel exactly, so steady motion and terminal
 /// states are those of the plain equations. docs/coupling.md, "Stability of light bodies".
 struct VirtualInertia {
-  double mass_si = 0.0;                                          ///< m_v, kg
-  Eigen::Matrix3d inertia_b_si = Eigen::Matrix3d::Zero();        ///< I_v, body frame, kg m^2
-  Eigen::Vector3d acceleration_si = Eigen::Vector3d::Zero();     ///< a_est, inertial, m/s^2
+  double mass_si = 0.0;                                                 ///< m_v, kg
+  Eigen::Matrix3d inertia_b_si = Eigen::Matrix3d::Zero();               ///< I_v, body frame, kg m^2
+  Eigen::Vector3d acceleration_si = Eigen::Vector3d::Zero();            ///< a_est, inertial, m/s^2
   Eigen::Vector3d angular_acceleration_b_si = Eigen::Vector3d::Zero();  ///< alpha_est, body frame, rad/s^2
 };
 
@@ -103,8 +103,8 @@ class RigidBody {
   /// the shapes compute. Throws std::invalid_argument for non-positive mass or volume, an
   /// inertia tensor that is not symmetric positive definite, or a non-finite state. For a towed body the initial velocity and body
   /// angular velocity are the prescribed ones; a fixed body's are set to zero.
-  RigidBody(const MassProperties& mass_properties, const Environment& environment,
-            const RigidBodyState& initial, MotionKind kind = MotionKind::free);
+  RigidBody(const MassProperties& mass_properties, const Environment& environment, const RigidBodyState& initial,
+            MotionKind kind = MotionKind::free);
 
   [[nodiscard]] const RigidBodyState& state() const { return state_; }
   [[nodiscard]] const MassProperties& mass_properties() const { return mass_properties_; }

@@ -63,12 +63,12 @@ void validate_marker_spacing(double spacing, double surface_area, const char* wh
   // gigabyte, far beyond any resolved simulation (40 cells per diameter need ~5000 markers).
   const double count = surface_area / (spacing * spacing);
   if (count < 4.0) {
-    throw InputError(fmt::format("{}: {} is too coarse for a surface of area {} (fewer than 4 markers)", what,
-                                 spacing, surface_area));
+    throw InputError(fmt::format("{}: {} is too coarse for a surface of area {} (fewer than 4 markers)", what, spacing,
+                                 surface_area));
   }
   if (count > 1.0e6) {
-    throw InputError(fmt::format("{}: {} is too fine for a surface of area {} (more than a million markers)",
-                                 what, spacing, surface_area));
+    throw InputError(fmt::format("{}: {} is too fine for a surface of area {} (more than a million markers)", what,
+                                 spacing, surface_area));
   }
 }
 

@@ -27,8 +27,8 @@ struct ShapeFactors {
   double equivalent_diameter = 0.0;
   double sphericity = 0.0;
   Eigen::Vector3d flow_direction = Eigen::Vector3d::UnitZ();  ///< unit, body frame
-  double projected_area_along_flow = 0.0;                    ///< A_perp
-  double mean_projected_area_across_flow = 0.0;              ///< A_par
+  double projected_area_along_flow = 0.0;                     ///< A_perp
+  double mean_projected_area_across_flow = 0.0;               ///< A_par
   double crosswise_sphericity = 0.0;
   double lengthwise_sphericity = 0.0;
   Eigen::Vector3d principal_extents = Eigen::Vector3d::Zero();  ///< (L, I, S), descending

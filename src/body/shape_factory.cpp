@@ -89,7 +89,8 @@ std::unique_ptr<Shape> build(const ShapeSpec& spec, const ShapeFactoryOptions& o
   const Validator check(spec, options);
   const std::string& shape = spec.shape;
   if (shape == "sphere") {
-    return std::make_unique<Ellipsoid>(Ellipsoid::sphere(check.positive("diameter", check.required("diameter", spec.diameter))));
+    return std::make_unique<Ellipsoid>(
+        Ellipsoid::sphere(check.positive("diameter", check.required("diameter", spec.diameter))));
   }
   if (shape == "spheroid") {
     const double diameter = check.positive("diameter", check.required("diameter", spec.diameter));
@@ -126,7 +127,7 @@ std::unique_ptr<Shape> build(const ShapeSpec& spec, const ShapeFactoryOptions& o
 }  // namespace
 
 const std::array<std::string_view, 7>& shape_names() {
-  static const std::array<std::string_view, 7> names{"sphere", "spheroid", "ellipsoid", "cylinder",
+  static const std::array<std::string_view, 7> names{"sphere", "spheroid",       "ellipsoid", "cylinder",
                                                      "cuboid", "superellipsoid", "mesh"};
   return names;
 }
@@ -135,7 +136,8 @@ std::unique_ptr<Shape> make_shape(const ShapeSpec& spec, const ShapeFactoryOptio
   if (std::find(shape_names().begin(), shape_names().end(), spec.shape) == shape_names().end()) {
     std::string allowed;
     for (std::string_view n : shape_names()) allowed += (allowed.empty() ? "" : ", ") + std::string(n);
-    throw InputError(fmt::format("{}: unknown shape '{}' (allowed: {})", options.key_name("shape"), spec.shape, allowed));
+    throw InputError(
+        fmt::format("{}: unknown shape '{}' (allowed: {})", options.key_name("shape"), spec.shape, allowed));
   }
   if (options.reject_unused_keys) {
     const std::vector<std::string_view> used = keys_of(spec.shape);
@@ -143,7 +145,8 @@ std::unique_ptr<Shape> make_shape(const ShapeSpec& spec, const ShapeFactoryOptio
       if (std::find(used.begin(), used.end(), key) == used.end()) {
         std::string takes;
         for (std::string_view k : used) takes += (takes.empty() ? "" : ", ") + options.key_name(k);
-        throw InputError(fmt::format("{}: not used by shape '{}' (it takes {})", options.key_name(key), spec.shape, takes));
+        throw InputError(
+            fmt::format("{}: not used by shape '{}' (it takes {})", options.key_name(key), spec.shape, takes));
       }
     }
   }

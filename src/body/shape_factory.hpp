@@ -15,15 +15,15 @@ namespace settle::body {
 
 /// The shape keys of [particle], unparsed from any format. Absent keys are empty.
 struct ShapeSpec {
-  std::string shape;                            ///< sphere | spheroid | ellipsoid | cylinder | cuboid | superellipsoid | mesh
-  std::optional<double> diameter;               ///< sphere, spheroid (equatorial), cylinder
-  std::optional<double> aspect_ratio;           ///< spheroid: polar / equatorial
+  std::string shape;                   ///< sphere | spheroid | ellipsoid | cylinder | cuboid | superellipsoid | mesh
+  std::optional<double> diameter;      ///< sphere, spheroid (equatorial), cylinder
+  std::optional<double> aspect_ratio;  ///< spheroid: polar / equatorial
   std::optional<std::array<double, 3>> semi_axes;  ///< ellipsoid, superellipsoid
   std::optional<std::array<double, 2>> exponents;  ///< superellipsoid (e1, e2), Barr convention
-  std::optional<double> length;                 ///< cylinder
-  std::optional<std::array<double, 3>> size;    ///< cuboid edge lengths
-  std::optional<std::string> file;              ///< mesh: STL path
-  std::optional<double> scale;                  ///< mesh: file units to metres (default 1)
+  std::optional<double> length;                    ///< cylinder
+  std::optional<std::array<double, 3>> size;       ///< cuboid edge lengths
+  std::optional<std::string> file;                 ///< mesh: STL path
+  std::optional<double> scale;                     ///< mesh: file units to metres (default 1)
 };
 
 struct ShapeFactoryOptions {

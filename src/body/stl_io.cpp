@@ -89,9 +89,8 @@ class AsciiTokenizer {
   }
   static bool same_keyword(std::string_view token, std::string_view keyword) {
     return token.size() == keyword.size() &&
-           std::equal(token.begin(), token.end(), keyword.begin(), [](char a, char b) {
-             return std::tolower(static_cast<unsigned char>(a)) == b;
-           });
+           std::equal(token.begin(), token.end(), keyword.begin(),
+                      [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
   }
 
  private:
@@ -178,8 +177,9 @@ TriangleMesh parse_binary(std::string_view bytes, const std::string& source, Stl
   const std::uint64_t count = binary_facet_count(bytes);
   const std::uint64_t needed = kBinaryPreambleBytes + kBinaryFacetBytes * count;
   if (needed != bytes.size()) {
-    throw InputError(fmt::format("{}: binary STL: the header announces {} triangles ({} bytes) but the file has {} bytes",
-                                 source, count, needed, bytes.size()));
+    throw InputError(
+        fmt::format("{}: binary STL: the header announces {} triangles ({} bytes) but the file has {} bytes", source,
+                    count, needed, bytes.size()));
   }
   VertexWelder welder;
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -225,9 +225,10 @@ TriangleMesh parse_stl(std::string_view bytes, const std::string& source, StlRea
   } else if (bytes.size() >= kBinaryPreambleBytes) {
     mesh = parse_binary(bytes, source, info);
   } else {
-    throw InputError(fmt::format("{}: not an STL file: it does not start with 'solid' and its {} bytes are fewer "
-                                 "than a binary STL header",
-                                 source, bytes.size()));
+    throw InputError(
+        fmt::format("{}: not an STL file: it does not start with 'solid' and its {} bytes are fewer "
+                    "than a binary STL header",
+                    source, bytes.size()));
   }
   if (mesh.triangles.empty()) throw InputError(source + ": the STL file contains no triangles");
   info.welded_vertex_count = mesh.vertices.size();
@@ -272,7 +273,9 @@ void write_stl_binary(const TriangleMesh& mesh, const std::filesystem::path& pat
   auto put_u32 = [&](std::size_t offset, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<char>((v >> (8 * i)) & 0xFFu);
   };
-  auto put_f32 = [&](std::size_t offset, double v) { put_u32(offset, std::bit_cast<std::uint32_t>(static_cast<float>(v))); };
+  auto put_f32 = [&](std::size_t offset, double v) {
+    put_u32(offset, std::bit_cast<std::uint32_t>(static_cast<float>(v)));
+  };
   put_u32(kBinaryHeaderBytes, static_cast<std::uint32_t>(mesh.triangles.size()));
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const std::size_t base = kBinaryPreambleBytes + kBinaryFacetBytes * t;

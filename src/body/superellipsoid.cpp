@@ -65,10 +65,10 @@ std::vector<QuadratureNode> tanh_sinh_nodes(double length, double step) {
   for (int k = 0;; ++k) {
     const double t = k * step;
     const double u = kHalfPi * std::sinh(t);
-    const double q = std::exp(-2.0 * u);          // for t >= 0
+    const double q = std::exp(-2.0 * u);             // for t >= 0
     const double near_end = length * q / (1.0 + q);  // length (1 - tanh u) / 2
     if (near_end < kClosest * length) break;
-    const double far_end = length / (1.0 + q);       // length (1 + tanh u) / 2
+    const double far_end = length / (1.0 + q);  // length (1 + tanh u) / 2
     // weight = length/2 * (pi/2) cosh t / cosh^2 u, with 1/cosh^2 u = 4q / (1 + q)^2
     const double weight = step * 0.5 * length * kHalfPi * std::cosh(t) * 4.0 * q / ((1.0 + q) * (1.0 + q));
     nodes.push_back({far_end, near_end, weight});
@@ -83,7 +83,8 @@ Superellipsoid::Superellipsoid(const Eigen::Vector3d& semi_axes, double e1, doub
     : semi_axes_(semi_axes), e1_(e1), e2_(e2) {
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(semi_axes_(i)) || semi_axes_(i) <= 0.0) {
-      throw InputError(fmt::format("superellipsoid: semi-axis {} must be finite and > 0, got {}", "abc"[i], semi_axes_(i)));
+      throw InputError(
+          fmt::format("superellipsoid: semi-axis {} must be finite and > 0, got {}", "abc"[i], semi_axes_(i)));
     }
   }
   for (const auto& [name, value] : {std::pair{"e1", e1}, std::pair{"e2", e2}}) {
@@ -209,8 +210,8 @@ double Superellipsoid::compute_surface_area() const {
   //                                   + a^2 b^2 c1^(2e1-2) s1^2)
   auto element = [&](double s1, double c1, double s2, double c2) {
     const double horizontal = c * c * (b * b * std::pow(c2, 4.0 - 2.0 * e2) + a * a * std::pow(s2, 4.0 - 2.0 * e2));
-    const double radicand = std::pow(s1, 2.0 * e1 - 2.0) * c1 * c1 * horizontal +
-                            a * a * b * b * std::pow(c1, 2.0 * e1 - 2.0) * s1 * s1;
+    const double radicand =
+        std::pow(s1, 2.0 * e1 - 2.0) * c1 * c1 * horizontal + a * a * b * b * std::pow(c1, 2.0 * e1 - 2.0) * s1 * s1;
     return e1 * e2 * std::pow(c1, e1) * std::pow(c2 * s2, e2 - 1.0) * std::sqrt(radicand);
   };
   double previous = 0.0, estimate = 0.0;
@@ -248,11 +249,12 @@ SurfaceMarkers Superellipsoid::surface_markers(double spacing) const {
   validate_marker_spacing(spacing, surface_area());
   // The cube is stretched to the bounding box before the radial map, so that each face's grid
   // covers a part of the surface in proportion to the body's extents.
-  const TriangleMesh fine = cube_sphere_mesh_with_max_edge(semi_axes_, kPatchEdgeFraction * spacing, [this](const Eigen::Vector3d& u) {
-    return radial_projection(semi_axes_.cwiseProduct(u));
-  });
-  SurfaceMarkers markers = cluster_patches_into_markers(patches_from_mesh(fine, 2.0 * kPatchEdgeFraction * spacing), spacing,
-                                                        [this](const Eigen::Vector3d& p) { return radial_projection(p); });
+  const TriangleMesh fine = cube_sphere_mesh_with_max_edge(
+      semi_axes_, kPatchEdgeFraction * spacing,
+      [this](const Eigen::Vector3d& u) { return radial_projection(semi_axes_.cwiseProduct(u)); });
+  SurfaceMarkers markers =
+      cluster_patches_into_markers(patches_from_mesh(fine, 2.0 * kPatchEdgeFraction * spacing), spacing,
+                                   [this](const Eigen::Vector3d& p) { return radial_projection(p); });
   for (std::size_t i = 0; i < markers.size(); ++i) markers.normals[i] = outward_normal(markers.positions[i]);
   return markers;
 }

@@ -21,7 +21,7 @@ constexpr double kNormalCompatibility = -0.5;
 // Lloyd's iteration stalls at moves of ~0.03 h, the jitter of single patches (~h/3 across,
 // 1/20 of a cluster) changing cluster; the layout is settled long before this cap.
 constexpr int kMaxLloydIterations = 20;
-constexpr double kConvergedMove = 0.02;  // of h
+constexpr double kConvergedMove = 0.02;   // of h
 constexpr double kSmallestCluster = 0.2;  // of h^2
 
 // Fisher-Yates with raw 64-bit draws: std::shuffle's algorithm is implementation-defined, and
@@ -90,7 +90,8 @@ Clusters assign_patches(const SurfacePatches& patches, const Seeds& seeds, doubl
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < patch_count; ++k) {
     const Eigen::Vector3d& normal = patches.normals[k];
-    int s = grid.nearest(patches.centres[k], [&](int i) { return seeds.normals[i].dot(normal) > kNormalCompatibility; });
+    int s =
+        grid.nearest(patches.centres[k], [&](int i) { return seeds.normals[i].dot(normal) > kNormalCompatibility; });
     if (s < 0) s = grid.nearest(patches.centres[k]);  // no compatible seed anywhere: any seed
     owner[k] = s;
   }
@@ -200,7 +201,8 @@ std::vector<double> nearest_marker_distances(const SurfaceMarkers& markers) {
   return distances;
 }
 
-std::vector<double> distances_to_nearest_marker(const SurfaceMarkers& markers, const std::vector<Eigen::Vector3d>& points) {
+std::vector<double> distances_to_nearest_marker(const SurfaceMarkers& markers,
+                                                const std::vector<Eigen::Vector3d>& points) {
   const double cell = markers.spacing > 0.0 ? markers.spacing : 1.0;
   const PointGrid grid(markers.positions, cell);
   std::vector<double> distances(points.size(), std::numeric_limits<double>::infinity());

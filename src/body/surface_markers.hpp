@@ -61,6 +61,7 @@ SurfaceMarkers cluster_patches_into_markers(const SurfacePatches& patches, doubl
 std::vector<double> nearest_marker_distances(const SurfaceMarkers& markers);
 
 /// For each query point, the distance to the nearest marker.
-std::vector<double> distances_to_nearest_marker(const SurfaceMarkers& markers, const std::vector<Eigen::Vector3d>& points);
+std::vector<double> distances_to_nearest_marker(const SurfaceMarkers& markers,
+                                                const std::vector<Eigen::Vector3d>& points);
 
 }  // namespace settle::body

@@ -39,9 +39,9 @@ void check_triangle_budget(const Eigen::Vector3d& half_extents, double max_edge)
   const Eigen::Vector3d cells = 1.6 * 1.6 * half_extents / max_edge + Eigen::Vector3d::Constant(2.0);
   const double triangles = 4.0 * (cells(0) * cells(1) + cells(1) * cells(2) + cells(2) * cells(0));
   if (triangles > kMaxTriangles)
-    throw std::invalid_argument(fmt::format(
-        "surface_triangulation: max_edge {} would need about {:.3g} triangles (limit {:.0g})", max_edge, triangles,
-        kMaxTriangles));
+    throw std::invalid_argument(
+        fmt::format("surface_triangulation: max_edge {} would need about {:.3g} triangles (limit {:.0g})", max_edge,
+                    triangles, kMaxTriangles));
 }
 
 }  // namespace
@@ -49,15 +49,15 @@ void check_triangle_budget(const Eigen::Vector3d& half_extents, double max_edge)
 TriangleMesh surface_triangulation(const Shape& shape, double max_edge) {
   if (const auto* mesh = dynamic_cast<const MeshShape*>(&shape)) return mesh->body_mesh();
   if (!std::isfinite(max_edge) || max_edge <= 0.0)
-    throw std::invalid_argument(fmt::format("surface_triangulation: max_edge must be finite and > 0, got {}", max_edge));
+    throw std::invalid_argument(
+        fmt::format("surface_triangulation: max_edge must be finite and > 0, got {}", max_edge));
   const Aabb box = shape.bounding_box();
   const Eigen::Vector3d half_extents = box.lower.cwiseAbs().cwiseMax(box.upper.cwiseAbs());
   check_triangle_budget(half_extents, max_edge);
   if (!shape.contains(Eigen::Vector3d::Zero()))
     throw std::logic_error("surface_triangulation: the centroid of a " + shape.kind() + " lies outside it");
-  return cube_sphere_mesh_with_max_edge(half_extents, max_edge, [&](const Eigen::Vector3d& u) {
-    return ray_exit(shape, half_extents.cwiseProduct(u));
-  });
+  return cube_sphere_mesh_with_max_edge(
+      half_extents, max_edge, [&](const Eigen::Vector3d& u) { return ray_exit(shape, half_extents.cwiseProduct(u)); });
 }
 
 }  // namespace settle::body

@@ -25,7 +25,9 @@ struct HalfEdge {
   auto key() const { return std::tie(low, high, triangle); }
 };
 
-std::string point_text(const Eigen::Vector3d& p) { return fmt::format("({:.9g}, {:.9g}, {:.9g})", p.x(), p.y(), p.z()); }
+std::string point_text(const Eigen::Vector3d& p) {
+  return fmt::format("({:.9g}, {:.9g}, {:.9g})", p.x(), p.y(), p.z());
+}
 
 void check_vertices_and_triangles(const TriangleMesh& mesh, const std::string& source) {
   if (mesh.triangles.empty()) throw InputError(source + ": the mesh contains no triangles");
@@ -37,8 +39,8 @@ void check_vertices_and_triangles(const TriangleMesh& mesh, const std::string& s
     const auto& tri = mesh.triangles[t];
     for (int v : tri) {
       if (v < 0 || v >= vertex_count) {
-        throw InputError(fmt::format("{}: triangle {} refers to vertex {} (the mesh has {})", source, t + 1, v,
-                                     vertex_count));
+        throw InputError(
+            fmt::format("{}: triangle {} refers to vertex {} (the mesh has {})", source, t + 1, v, vertex_count));
       }
     }
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
@@ -80,22 +82,22 @@ EdgeNeighbours check_closed_and_oriented(const TriangleMesh& mesh, const std::st
     std::size_t end = begin + 1;
     while (end < edges.size() && edges[end].low == edges[begin].low && edges[end].high == edges[begin].high) ++end;
     const HalfEdge& e = edges[begin];
-    const std::string where = fmt::format("the edge from {} to {}", point_text(mesh.vertices[e.low]),
-                                          point_text(mesh.vertices[e.high]));
+    const std::string where =
+        fmt::format("the edge from {} to {}", point_text(mesh.vertices[e.low]), point_text(mesh.vertices[e.high]));
     if (end - begin == 1) {
-      throw InputError(fmt::format("{}: the mesh is not watertight: {} belongs to triangle {} only", source, where,
-                                   e.triangle + 1));
+      throw InputError(
+          fmt::format("{}: the mesh is not watertight: {} belongs to triangle {} only", source, where, e.triangle + 1));
     }
     if (end - begin > 2) {
-      throw InputError(fmt::format("{}: the mesh is not manifold: {} is shared by {} triangles", source, where,
-                                   end - begin));
+      throw InputError(
+          fmt::format("{}: the mesh is not manifold: {} is shared by {} triangles", source, where, end - begin));
     }
     const HalfEdge& f = edges[begin + 1];
     if (e.forward == f.forward) {
-      throw InputError(fmt::format(
-          "{}: inconsistent orientation: triangles {} and {} traverse {} in the same direction "
-          "(every edge must be shared by exactly two triangles running it in opposite directions)",
-          source, e.triangle + 1, f.triangle + 1, where));
+      throw InputError(
+          fmt::format("{}: inconsistent orientation: triangles {} and {} traverse {} in the same direction "
+                      "(every edge must be shared by exactly two triangles running it in opposite directions)",
+                      source, e.triangle + 1, f.triangle + 1, where));
     }
     neighbours[e.triangle][e.corner] = f.triangle;
     neighbours[f.triangle][f.corner] = e.triangle;
@@ -140,7 +142,8 @@ Eigen::Vector3d triangle_vector_area(const TriangleMesh& mesh, int t) {
 
 double mesh_surface_area(const TriangleMesh& mesh) {
   double area = 0.0;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) area += triangle_vector_area(mesh, static_cast<int>(t)).norm();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    area += triangle_vector_area(mesh, static_cast<int>(t)).norm();
   return area;
 }
 

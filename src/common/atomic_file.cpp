@@ -51,16 +51,16 @@ void AtomicFile::commit() {
   out_.close();
   if (!written || out_.fail()) throw InputError(fmt::format("{}: cannot write (write failed)", path_.string()));
   if (!fsync_path(temporary_, 0))
-    throw InputError(fmt::format("{}: cannot flush {} to the disk ({})", path_.string(), temporary_.string(),
-                                 system_error_text()));
+    throw InputError(
+        fmt::format("{}: cannot flush {} to the disk ({})", path_.string(), temporary_.string(), system_error_text()));
   std::error_code error;
   fs::rename(temporary_, path_, error);
   if (error) throw InputError(fmt::format("{}: cannot write ({})", path_.string(), error.message()));
   committed_ = true;
   // Without this a power cut after the rename can bring back the old name.
   if (!fsync_path(path_.parent_path(), O_DIRECTORY))
-    throw InputError(fmt::format("{}: cannot flush its directory to the disk ({})", path_.string(),
-                                 system_error_text()));
+    throw InputError(
+        fmt::format("{}: cannot flush its directory to the disk ({})", path_.string(), system_error_text()));
 }
 
 void write_file_atomically(const fs::path& path, std::string_view text) {

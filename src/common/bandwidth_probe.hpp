@@ -12,8 +12,8 @@
 namespace settle {
 
 struct BandwidthProbeResult {
-  double bandwidth_gbs;    ///< best of the repetitions, 1e9 bytes/s, counting read + write
-  double array_bytes;      ///< size of the probed array
+  double bandwidth_gbs;  ///< best of the repetitions, 1e9 bytes/s, counting read + write
+  double array_bytes;    ///< size of the probed array
   int repetitions;
   int threads;
 };

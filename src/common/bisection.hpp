@@ -35,10 +35,18 @@ BisectionBracket bisect(BisectionBracket bracket, SideOf side_of, Converged conv
   for (int step = 0; step < max_steps && !converged(bracket.low, bracket.high); ++step) {
     const double point = midpoint(bracket.low, bracket.high);
     switch (side_of(point)) {
-      case BisectionSide::below: bracket.low = point; break;
-      case BisectionSide::above: bracket.high = point; break;
-      case BisectionSide::at_root: bracket.low = bracket.high = point; break;
-      case BisectionSide::undefined: bracket.undefined = true; return bracket;
+      case BisectionSide::below:
+        bracket.low = point;
+        break;
+      case BisectionSide::above:
+        bracket.high = point;
+        break;
+      case BisectionSide::at_root:
+        bracket.low = bracket.high = point;
+        break;
+      case BisectionSide::undefined:
+        bracket.undefined = true;
+        return bracket;
     }
   }
   return bracket;

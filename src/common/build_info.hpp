@@ -9,8 +9,8 @@ struct BuildInfo {
   std::string version;
   std::string compiler;
   std::string build_type;
-  bool native_cpu;   ///< built with -march=native
-  bool sanitizers;   ///< built with ASan/UBSan (timings then mean nothing)
+  bool native_cpu;  ///< built with -march=native
+  bool sanitizers;  ///< built with ASan/UBSan (timings then mean nothing)
 };
 
 BuildInfo build_info();

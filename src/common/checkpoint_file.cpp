@@ -161,9 +161,10 @@ CheckpointFile::CheckpointFile(const std::filesystem::path& file) : path_(file) 
     throw CheckpointError(fmt::format("{}: cannot read the checkpoint: {}", name, system_error_text()));
   const auto size = static_cast<std::size_t>(info.st_size);
   if (size < kHeaderBytes + kTrailer.size())
-    throw CheckpointError(fmt::format("{}: {} bytes is too short for a settle checkpoint (truncated or not a "
-                                      "checkpoint)",
-                                      name, size));
+    throw CheckpointError(
+        fmt::format("{}: {} bytes is too short for a settle checkpoint (truncated or not a "
+                    "checkpoint)",
+                    name, size));
   void* map = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, in.get(), 0);
   if (map == MAP_FAILED)
     throw CheckpointError(fmt::format("{}: cannot map the checkpoint: {}", name, system_error_text()));
@@ -189,20 +190,21 @@ CheckpointFile::CheckpointFile(const std::filesystem::path& file) : path_(file) 
       throw CheckpointError(fmt::format("{}: header of {} bytes, version {} has {}: the file is corrupt", name,
                                         header_bytes, version_, kHeaderBytes));
     if (size < file_bytes)
-      throw CheckpointError(fmt::format("{}: truncated: the file holds {} of the {} bytes its header announces (was "
-                                        "the write interrupted?)",
-                                        name, size, file_bytes));
+      throw CheckpointError(
+          fmt::format("{}: truncated: the file holds {} of the {} bytes its header announces (was "
+                      "the write interrupted?)",
+                      name, size, file_bytes));
     if (size > file_bytes)
-      throw CheckpointError(fmt::format("{}: {} bytes where the header announces {}: the file is corrupt", name, size,
-                                        file_bytes));
+      throw CheckpointError(
+          fmt::format("{}: {} bytes where the header announces {}: the file is corrupt", name, size, file_bytes));
 
     const std::size_t body_end = size - kTrailer.size();
     std::size_t offset = kHeaderBytes;
     // Lengths are read before the section's CRC-32 can be checked, so each is bounded first.
     const auto need = [&](std::uint64_t bytes, std::uint32_t index) {
       if (bytes > body_end - offset)
-        throw CheckpointError(fmt::format("{}: section {} runs past the end of the file: the file is corrupt", name,
-                                          index));
+        throw CheckpointError(
+            fmt::format("{}: section {} runs past the end of the file: the file is corrupt", name, index));
     };
     for (std::uint32_t i = 0; i < section_count; ++i) {
       const std::size_t start = offset;
@@ -223,9 +225,10 @@ CheckpointFile::CheckpointFile(const std::filesystem::path& file) : path_(file) 
       const std::uint32_t computed = crc32(std::span(p + start, offset - start));
       offset += 4;
       if (computed != stored)
-        throw CheckpointError(fmt::format("{}: section '{}' fails its CRC-32 check (stored {:08x}, computed {:08x}): "
-                                          "the file is corrupt",
-                                          name, section_name, stored, computed));
+        throw CheckpointError(
+            fmt::format("{}: section '{}' fails its CRC-32 check (stored {:08x}, computed {:08x}): "
+                        "the file is corrupt",
+                        name, section_name, stored, computed));
       entries_.push_back({std::move(section_name), data});
     }
     if (offset != body_end || std::memcmp(p + body_end, kTrailer.data(), kTrailer.size()) != 0)
@@ -295,8 +298,8 @@ void RecordWriter::raw(const void* data, std::size_t bytes) {
 std::string RecordReader::string() {
   const std::uint64_t length = u64();
   if (length > data_.size() - offset_)
-    throw CheckpointError(fmt::format("checkpoint section '{}': a string of {} bytes runs past the section's end",
-                                      section_, length));
+    throw CheckpointError(
+        fmt::format("checkpoint section '{}': a string of {} bytes runs past the section's end", section_, length));
   std::string text(static_cast<std::size_t>(length), '\0');
   raw(text.data(), text.size());
   return text;
@@ -312,8 +315,8 @@ void RecordReader::raw(void* out, std::size_t bytes) {
 
 void RecordReader::expect_end() const {
   if (offset_ != data_.size())
-    throw CheckpointError(fmt::format("checkpoint section '{}' holds {} bytes, {} expected", section_, data_.size(),
-                                      offset_));
+    throw CheckpointError(
+        fmt::format("checkpoint section '{}' holds {} bytes, {} expected", section_, data_.size(), offset_));
 }
 
 }  // namespace settle

@@ -20,7 +20,8 @@ CouplingKind parse_coupling(const std::string& name, const std::string& what) {
 
 CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, double dx_si,
                      const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) {
-  if (options.kind == CouplingKind::momentum_exchange) return momentum_exchange_box(shape, dx_si, centre, body_to_inertial);
+  if (options.kind == CouplingKind::momentum_exchange)
+    return momentum_exchange_box(shape, dx_si, centre, body_to_inertial);
   return immersed_boundary_box(shape, dx_si, options.kernel, centre, body_to_inertial);
 }
 

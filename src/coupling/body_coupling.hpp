@@ -30,7 +30,9 @@ struct LatticePose {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_n = Eigen::Vector3d::Zero();  ///< per time step, inertial frame
   /// Rigid-body velocity of the body-fixed point now at x.
-  Eigen::Vector3d velocity_at(const Eigen::Vector3d& x) const { return velocity + angular_velocity_n.cross(x - centre); }
+  Eigen::Vector3d velocity_at(const Eigen::Vector3d& x) const {
+    return velocity + angular_velocity_n.cross(x - centre);
+  }
 };
 
 /// What a coupling measured over one fluid step: the fluid's force and torque on the body (about

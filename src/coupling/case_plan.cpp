@@ -26,9 +26,10 @@ void check_contact_setup(const SimulationSetup& s) {
   const double minimum = ibm::support_half_width(s.kernel) - 0.5;
   const double distance = contact_distance_cells(s);
   if (!(distance >= minimum && distance <= 1.0e3))
-    throw InputError(fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
-                                 "closer to a wall would put its forcing stencil outside the grid), got {}",
-                                 minimum, ibm::to_string(s.kernel), distance));
+    throw InputError(
+        fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
+                    "closer to a wall would put its forcing stencil outside the grid), got {}",
+                    minimum, ibm::to_string(s.kernel), distance));
 }
 
 void check_setup(const SimulationSetup& s) {
@@ -38,8 +39,9 @@ void check_setup(const SimulationSetup& s) {
   if (s.forcing_iterations < 1)
     throw InputError(fmt::format("numerics.forcing_iterations: must be >= 1, got {}", s.forcing_iterations));
   if (s.motion == body::MotionKind::free && s.body_force_si.norm() > 0.0)
-    throw InputError("fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
-                     "carried by the driven flow); set it to [0, 0, 0]");
+    throw InputError(
+        "fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
+        "carried by the driven flow); set it to [0, 0, 0]");
   check_contact_setup(s);
 }
 
@@ -115,18 +117,19 @@ CouplingOptions coupling_options(const SimulationSetup& setup) {
 void check_body_box_in_grid(const SimulationSetup& setup, double dx_si, const std::array<int, 3>& cells) {
   static constexpr const char* kAxis = "xyz";
   const LatticeFrame start_frame{Eigen::Vector3d::Zero(), dx_si};
-  const CellBox box = coupling_box(coupling_options(setup), *setup.shape, dx_si,
-                                   start_frame.to_lattice(setup.initial.position_si),
-                                   setup.initial.attitude.body_to_inertial());
+  const CellBox box =
+      coupling_box(coupling_options(setup), *setup.shape, dx_si, start_frame.to_lattice(setup.initial.position_si),
+                   setup.initial.attitude.body_to_inertial());
   const char* what = setup.coupling == CouplingKind::momentum_exchange ? "the momentum exchange's boundary links"
                                                                        : "the immersed-boundary forcing stencil";
   for (std::size_t i = 0; i < 3; ++i) {
     const int first = box.origin[i], last = box.origin[i] + box.extent[i] - 1, n = cells[i];
     if (setup.boundaries[i] == lbm::Boundary::periodic) {
       if (box.extent[i] > n)
-        throw InputError(fmt::format("domain.size: along {} the periodic domain is {} cells, but the particle and {} "
-                                     "span {} cells; enlarge domain.size along {}",
-                                     kAxis[i], n, what, box.extent[i], kAxis[i]));
+        throw InputError(
+            fmt::format("domain.size: along {} the periodic domain is {} cells, but the particle and {} "
+                        "span {} cells; enlarge domain.size along {}",
+                        kAxis[i], n, what, box.extent[i], kAxis[i]));
       continue;
     }
     // Cells past the wall planes at lattice -1/2 and n - 1/2: moving the body by as many whole
@@ -173,12 +176,12 @@ std::optional<body::WallContact> start_wall_contact(const SimulationSetup& setup
   const double compression_si = net_weight_si / body::spring_dashpot(mass_si, mass_si, parameters).stiffness;
   const double gap_si = contact->min_gap_si(setup.initial);
   if (gap_si < parameters.contact_distance_si - 2.0 * compression_si)
-    throw InputError(fmt::format("particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
-                                 "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring "
-                                 "would throw it off. Move it at least {:.4g} m from the walls, lower "
-                                 "contact.distance_cells, or set contact.enabled = false",
-                                 gap_si, gap_si / dx_si, contact_distance_cells(setup),
-                                 parameters.contact_distance_si - compression_si));
+    throw InputError(fmt::format(
+        "particle.position: the particle starts {:.4g} m ({:.3g} cells) from a wall, inside the "
+        "wall-contact distance of {:.3g} cells (contact.distance_cells); its contact spring "
+        "would throw it off. Move it at least {:.4g} m from the walls, lower "
+        "contact.distance_cells, or set contact.enabled = false",
+        gap_si, gap_si / dx_si, contact_distance_cells(setup), parameters.contact_distance_si - compression_si));
   return contact;
 }
 

@@ -80,7 +80,9 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       number("gravity y (m/s^2)", s.gravity_si.y()),
       number("gravity z (m/s^2)", s.gravity_si.z()),
       {"particle motion", static_cast<double>(static_cast<int>(s.motion)),
-       s.motion == body::MotionKind::free ? "free" : s.motion == body::MotionKind::towed ? "towed" : "fixed"},
+       s.motion == body::MotionKind::free    ? "free"
+       : s.motion == body::MotionKind::towed ? "towed"
+                                             : "fixed"},
       number("particle mass (kg)", m.mass),
       number("particle volume (m^3)", m.volume),
       {"coupling (numerics.coupling)", static_cast<double>(static_cast<int>(s.coupling)), to_string(s.coupling)},
@@ -159,7 +161,8 @@ body::RigidBodyState decode_body(std::span<const std::byte> data) {
   s.position_si = in.vec3();
   s.velocity_si = in.vec3();
   const std::uint32_t set = in.u32();
-  if (set != 1 && set != 2) throw CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", kBodySection, set));
+  if (set != 1 && set != 2)
+    throw CheckpointError(fmt::format("checkpoint section '{}': Euler set {}", kBodySection, set));
   const Eigen::Vector3d angles = in.vec3();
   s.attitude = attitude::Attitude(static_cast<attitude::EulerSet>(set), angles);
   s.angular_velocity_b_si = in.vec3();
@@ -241,9 +244,10 @@ std::string text_of(std::span<const std::byte> data) {
 /// The fingerprint of the simulation must equal the saved one entry by entry.
 void check_fingerprint(const Fingerprint& saved, const Fingerprint& current, const std::filesystem::path& file) {
   const auto refuse = [&](const std::string& what) {
-    throw CheckpointError(fmt::format("{}: the checkpoint was written for another case: {}; restart with the "
-                                          "resolved case stored in the checkpoint",
-                                          file.string(), what));
+    throw CheckpointError(
+        fmt::format("{}: the checkpoint was written for another case: {}; restart with the "
+                    "resolved case stored in the checkpoint",
+                    file.string(), what));
   };
   for (const FingerprintEntry& now : current) {
     const FingerprintEntry* before = nullptr;
@@ -334,7 +338,8 @@ struct CheckpointAccess {
       s.timers.emplace_back(std::move(name), in.f64());
     }
     in.expect_end();
-    if (s.steps < 0) throw CheckpointError(fmt::format("checkpoint section '{}': negative step count", kSimulationSection));
+    if (s.steps < 0)
+      throw CheckpointError(fmt::format("checkpoint section '{}': negative step count", kSimulationSection));
     return s;
   }
 
@@ -400,9 +405,10 @@ void SimulationCheckpoint::restore(Simulation& sim) const {
   fluid.populations = file_.section(kPopulationsSection);
   if (file_.has(kSolidCellsSection)) fluid.solid_cells = decode_solid_cells(file_.section(kSolidCellsSection));
   if (!(fluid.layout == sim.fluid().export_state().layout))
-    throw CheckpointError(fmt::format("{}: the fluid's memory layout differs from this build's (written by "
-                                          "settle {}); restart with the settle that wrote it",
-                                          file_.path().string(), written_by_));
+    throw CheckpointError(
+        fmt::format("{}: the fluid's memory layout differs from this build's (written by "
+                    "settle {}); restart with the settle that wrote it",
+                    file_.path().string(), written_by_));
   // The solver checks the whole state before it writes anything, so a refusal leaves the
   // simulation unchanged; nothing after it can fail (the body state was checked finite above).
   try {

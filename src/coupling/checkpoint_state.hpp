@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "coupling/simulation.hpp"
 #include "common/checkpoint_file.hpp"
+#include "coupling/simulation.hpp"
 
 namespace settle::coupling {
 

@@ -44,10 +44,11 @@ Place place_of(const Simulation& sim, const std::array<int, 3>& cell) {
 
 std::string describe(const Simulation& sim, const Place& p) {
   const std::array<int, 3>& n = sim.derived().cells;
-  return fmt::format("at cell ({}, {}, {}) of {}x{}x{}, ({:.2f}, {:.2f}, {:.2f}) diameters from the particle's centre{}, "
-                     "{} cells from the nearest face of the grid",
-                     p.cell[0], p.cell[1], p.cell[2], n[0], n[1], n[2], p.offset_d.x(), p.offset_d.y(), p.offset_d.z(),
-                     p.inside_particle ? " (inside the particle)" : "", p.cells_to_face);
+  return fmt::format(
+      "at cell ({}, {}, {}) of {}x{}x{}, ({:.2f}, {:.2f}, {:.2f}) diameters from the particle's centre{}, "
+      "{} cells from the nearest face of the grid",
+      p.cell[0], p.cell[1], p.cell[2], n[0], n[1], n[2], p.offset_d.x(), p.offset_d.y(), p.offset_d.z(),
+      p.inside_particle ? " (inside the particle)" : "", p.cells_to_face);
 }
 
 /// Why the density left its range: the pressure held inside a body with interior markers, the
@@ -63,10 +64,11 @@ std::string density_cause(const Simulation& sim, const Place& place) {
            "deviation of 0.06-0.10 at lattice velocity 0.05, falling roughly as its square; lower "
            "numerics.max_lattice_velocity (0.035 about halves it) or set numerics.interior_markers = false";
   if (tau > 1.0)
-    return fmt::format("the viscous pressure of a thin gap (a particle nearing a wall) at tau = {:.3g}, which grows "
-                       "with (tau - 0.5) x lattice velocity; lower numerics.max_tau (a smaller dt), e.g. to 1.0, or "
-                       "numerics.max_lattice_velocity",
-                       tau);
+    return fmt::format(
+        "the viscous pressure of a thin gap (a particle nearing a wall) at tau = {:.3g}, which grows "
+        "with (tau - 0.5) x lattice velocity; lower numerics.max_tau (a smaller dt), e.g. to 1.0, or "
+        "numerics.max_lattice_velocity",
+        tau);
   return "too large a lattice velocity or an impulsive start; lower numerics.max_lattice_velocity";
 }
 
@@ -96,8 +98,8 @@ HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
     r.problem = fmt::format(
         "fluid density ranges over [{:.3f}, {:.3f}] (lattice units), beyond 1 +- {:.2f}: pressure too strong for the "
         "incompressible limit; the {} {}. Likely cause: {}",
-        r.min_density, r.max_density, limits.max_density_deviation, high ? "largest" : "smallest",
-        describe(sim, place), density_cause(sim, place));
+        r.min_density, r.max_density, limits.max_density_deviation, high ? "largest" : "smallest", describe(sim, place),
+        density_cause(sim, place));
   }
   return r;
 }

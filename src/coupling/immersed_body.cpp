@@ -48,8 +48,9 @@ BodyMarkers make_body_markers(const body::Shape& shape, double dx_si, double ret
   return markers;
 }
 
-ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,
-                           const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity_n) {
+ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre,
+                           const Eigen::Matrix3d& body_to_inertial, const Eigen::Vector3d& velocity,
+                           const Eigen::Vector3d& angular_velocity_n) {
   ibm::Markers placed;
   placed.position.reserve(markers.size());
   placed.target_velocity.reserve(markers.size());
@@ -112,8 +113,9 @@ SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& bo
   const Eigen::Matrix3d inertial_to_body = body_to_inertial.transpose();
   const std::array<int, 3> n{box.extent[0] + 1, box.extent[1] + 1, box.extent[2] + 1};
   const auto corner_index = [&](int i, int j, int k) {
-    return static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) +
-                                                                           static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(n[0]) *
+               (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
   };
   const auto corner_point_b = [&](int i, int j, int k) -> Eigen::Vector3d {
     const Eigen::Vector3d corner(box.origin[0] + i - 0.5, box.origin[1] + j - 0.5, box.origin[2] + k - 0.5);
@@ -147,15 +149,18 @@ SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& bo
       for (int i = 0; i < box.extent[0]; ++i) {
         int count = 0;
         corners_of(i, j, k, [&](std::size_t c) { count += inside[c]; });
-        const std::size_t cell = static_cast<std::size_t>(i) + static_cast<std::size_t>(box.extent[0]) *
-                                 (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.extent[1]) * static_cast<std::size_t>(k));
+        const std::size_t cell =
+            static_cast<std::size_t>(i) +
+            static_cast<std::size_t>(box.extent[0]) *
+                (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.extent[1]) * static_cast<std::size_t>(k));
         cell_kind[cell] = count == 0 ? 0 : count == 8 ? 1 : 2;
         if (cell_kind[cell] == 2) corners_of(i, j, k, [&](std::size_t c) { needed[c] = 1; });
       }
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i)
-        if (needed[corner_index(i, j, k)]) phi[corner_index(i, j, k)] = shape.signed_distance(corner_point_b(i, j, k)) / dx_si;
+        if (needed[corner_index(i, j, k)])
+          phi[corner_index(i, j, k)] = shape.signed_distance(corner_point_b(i, j, k)) / dx_si;
 
   SolidCells cells;
   std::size_t cell = 0;
@@ -200,7 +205,8 @@ LatticeWrench marker_reaction(const ibm::Markers& markers, const std::vector<Eig
   return w;
 }
 
-LatticeWrench hydrodynamic_wrench(const LatticeWrench& reaction, const FluidMomentum& before, const FluidMomentum& after) {
+LatticeWrench hydrodynamic_wrench(const LatticeWrench& reaction, const FluidMomentum& before,
+                                  const FluidMomentum& after) {
   return {reaction.force + (after.linear - before.linear), reaction.torque + (after.angular - before.angular)};
 }
 

@@ -71,8 +71,9 @@ constexpr double calibrated_marker_retraction_cells(bool interior) { return inte
 constexpr double interior_lattice_depth_cells(double retraction_cells) { return retraction_cells + 1.0; }
 
 /// Markers at a pose (lattice units): X_l = X_c + C_b^n p_l, target velocity v + omega_n x (X_l - X_c).
-ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial,
-                           const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity_n);
+ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre,
+                           const Eigen::Matrix3d& body_to_inertial, const Eigen::Vector3d& velocity,
+                           const Eigen::Vector3d& angular_velocity_n);
 
 /// An axis-aligned box of cells (lattice units): first cell and extent per axis. Each coupling
 /// says which box a body needs (BodyCoupling::box_at).

@@ -66,7 +66,8 @@ CouplingForces ImmersedBoundaryCoupling::measure(const lbm::Solver& fluid) {
   CouplingForces f;
   f.surface = marker_reaction(markers_, forcing_.marker_force, pose_.centre);
   f.total = hydrodynamic_wrench(f.surface, internal_before_, internal_after);
-  f.internal_rate = {internal_after.linear - internal_before_.linear, internal_after.angular - internal_before_.angular};
+  f.internal_rate = {internal_after.linear - internal_before_.linear,
+                     internal_after.angular - internal_before_.angular};
   f.slip_max = forcing_.slip_max_after;
   f.slip_rms = forcing_.slip_rms_after;
   internal_before_ = internal_after;

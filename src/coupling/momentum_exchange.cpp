@@ -27,13 +27,16 @@ std::optional<std::size_t> wrapped_index(const lbm::Solver& fluid, const std::ar
 BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
                      std::span<const std::array<int, 3>> velocities, lbm::WallRule rule) {
   const Eigen::Matrix3d to_body = pose.body_to_inertial.transpose();
-  const auto body_point = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d { return to_body * ((x - pose.centre) * dx_si); };
+  const auto body_point = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+    return to_body * ((x - pose.centre) * dx_si);
+  };
   const auto cell_point = [&](int i, int j, int k) {
     return Eigen::Vector3d(box.origin[0] + i, box.origin[1] + j, box.origin[2] + k);
   };
   const auto at = [&](int i, int j, int k) {
-    return static_cast<std::size_t>(i) + static_cast<std::size_t>(box.extent[0]) *
-                                             (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.extent[1]) * static_cast<std::size_t>(k));
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(box.extent[0]) *
+               (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.extent[1]) * static_cast<std::size_t>(k));
   };
   // Cells farther from the centre than the bounding radius are outside without asking.
   const double reach = shape.bounding_radius() / dx_si;
@@ -63,7 +66,9 @@ BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box,
           const double q = std::clamp(shape.surface_crossing(body_point(x), body_point(x + d)), 1e-6, 1.0);
           const Eigen::Vector3d wall = x + q * d;
           walls.obstacle.links.push_back({{box.origin[0] + i, box.origin[1] + j, box.origin[2] + k},
-                                          static_cast<int>(dir), q, pose.velocity_at(wall)});
+                                          static_cast<int>(dir),
+                                          q,
+                                          pose.velocity_at(wall)});
           walls.crossing.push_back(wall);
         }
       }

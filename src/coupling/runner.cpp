@@ -21,7 +21,8 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 
 // wall_s: of this segment, which began at start_step (0, or a restart's step).
 std::string progress_line(const Simulation& sim, const TimeControl& time, std::int64_t start_step, double wall_s) {
-  const double fraction = static_cast<double>(time.step()) / static_cast<double>(std::max<std::int64_t>(1, time.total_steps()));
+  const double fraction =
+      static_cast<double>(time.step()) / static_cast<double>(std::max<std::int64_t>(1, time.total_steps()));
   const double steps_done = static_cast<double>(time.step() - start_step);
   const double steps_left = static_cast<double>(std::max<std::int64_t>(0, time.total_steps() - time.step()));
   const double eta = steps_done > 0.0 ? wall_s * steps_left / steps_done : 0.0;
@@ -54,7 +55,7 @@ Sample take_sample(const Simulation& sim, double t_si) {
     s.relative_flow_si = sim.setup().inflow_velocity_si - state.velocity_si;
   } else {
     s.relative_flow_si = sim.body().motion_kind() == body::MotionKind::fixed ? sim.superficial_velocity_si()
-                                                                            : Eigen::Vector3d(-state.velocity_si);
+                                                                             : Eigen::Vector3d(-state.velocity_si);
   }
   s.reynolds = s.relative_flow_si.norm() * sim.plan().equivalent_diameter_si / sim.units().kinematic_viscosity_si();
   return s;
@@ -66,16 +67,15 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_in
 
 RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, double progress_interval_wall_s) {
   if (start.step != sim.steps())
-    throw std::invalid_argument(fmt::format("run: the start step {} is not the simulation's step {}", start.step,
-                                            sim.steps()));
+    throw std::invalid_argument(
+        fmt::format("run: the start step {} is not the simulation's step {}", start.step, sim.steps()));
   TimeControl time(sim.units().dt_si(), sim.setup().end_time_si, start.step);
   OutputSchedule output(sim.setup().output_interval_si);
   output.set_next_index(start.next_output_index);
   // Checkpoints at the multiples of their interval after the start time (marked done here): a
   // checkpoint at the start would hold what the case or the restored checkpoint already holds.
-  OutputSchedule checkpoints(callbacks.checkpoint_due && callbacks.checkpoint_interval_si > 0.0
-                                 ? callbacks.checkpoint_interval_si
-                                 : -1.0);
+  OutputSchedule checkpoints(
+      callbacks.checkpoint_due && callbacks.checkpoint_interval_si > 0.0 ? callbacks.checkpoint_interval_si : -1.0);
   checkpoints.due(time.time_si(), time.dt_si());
   RunResult result;
   result.samples = std::move(start.samples);

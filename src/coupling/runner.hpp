@@ -53,16 +53,16 @@ struct RunExtremes {
 /// A fresh run starts from the default; a continued run from what checkpoint_due was given, with
 /// the simulation restored to the same step.
 struct RunStart {
-  std::int64_t step = 0;                ///< coupled steps already taken (== Simulation::steps())
-  std::int64_t next_output_index = 0;   ///< OutputSchedule::next_index() of the samples
-  std::vector<Sample> samples;          ///< recorded so far (RunResult::samples: the summary's data)
-  double wall_seconds = 0.0;            ///< wall time of the run so far (earlier segments)
-  RunExtremes extremes;                 ///< of the health checks so far (earlier segments)
+  std::int64_t step = 0;               ///< coupled steps already taken (== Simulation::steps())
+  std::int64_t next_output_index = 0;  ///< OutputSchedule::next_index() of the samples
+  std::vector<Sample> samples;         ///< recorded so far (RunResult::samples: the summary's data)
+  double wall_seconds = 0.0;           ///< wall time of the run so far (earlier segments)
+  RunExtremes extremes;                ///< of the health checks so far (earlier segments)
 };
 
 struct RunCallbacks {
-  std::function<void(const Sample&)> on_sample;          ///< every output time
-  std::function<void(const std::string&)> on_progress;   ///< a progress line every few seconds
+  std::function<void(const Sample&)> on_sample;         ///< every output time
+  std::function<void(const std::string&)> on_progress;  ///< a progress line every few seconds
   /// After each sample: a non-empty reason ends the run there (e.g. "terminal_state").
   std::function<std::string(const Sample&)> stop_after_sample;
   /// Checked after every step (keep it cheap: an atomic flag set by a signal handler); true ends
@@ -88,8 +88,8 @@ struct RunResult {
   std::int64_t steps = 0;
   double simulated_time_si = 0.0;
   double wall_seconds = 0.0;  ///< a continued run: its earlier segments' (RunStart) included
-  double mlups = 0.0;  ///< million fluid-cell updates per wall second over steps and wall_seconds
-  std::string stop_reason;  ///< "end_time", "reached_boundary", "interrupted" or a stop_after_sample reason
+  double mlups = 0.0;         ///< million fluid-cell updates per wall second over steps and wall_seconds
+  std::string stop_reason;    ///< "end_time", "reached_boundary", "interrupted" or a stop_after_sample reason
   std::vector<Sample> samples;
   RunExtremes extremes;  ///< over every output time, earlier segments (RunStart) included
 };

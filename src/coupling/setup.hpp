@@ -54,7 +54,7 @@ struct SimulationSetup {
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;
   double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md
-  bool interior_markers = false;          ///< volume markers inside the body (make_body_markers)
+  bool interior_markers = false;  ///< volume markers inside the body (make_body_markers)
   double max_lattice_velocity = 0.05;
   double max_tau = 2.0;
   std::optional<double> tau;
@@ -62,7 +62,7 @@ struct SimulationSetup {
   // Particle-wall contact (body/contact.hpp) with the walls of the non-periodic axes. Off when the
   // window follows the particle (it then never nears a face: the window keeps it at its start).
   bool wall_contact = true;
-  double contact_restitution = 0.97;    ///< dry normal restitution e in (0, 1] (glass, steel: ~0.97)
+  double contact_restitution = 0.97;  ///< dry normal restitution e in (0, 1] (glass, steel: ~0.97)
   /// beta of the wet restitution e exp(-beta / St) (body/contact.hpp; Legendre et al. 2006); 0: dry contacts
   double contact_wet_stokes_scale = 35.0;
   double contact_collision_steps = 10.0;  ///< collision time T_c in fluid time steps (Kempe and Froehlich 2012)

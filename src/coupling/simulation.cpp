@@ -34,15 +34,17 @@ std::array<int, 3> grid_cells(const CasePlan& plan, const SimulationSetup& s) {
   std::array<int, 3> n{};
   for (std::size_t a = 0; a < 3; ++a) {
     if (plan.cells[a] < 4.0)
-      throw InputError(fmt::format("domain.size: {:.4g} m along axis {} is {} cells; at least 4 needed (raise domain.size "
-                                   "or numerics.cells_per_diameter)",
-                                   s.domain_size_si[static_cast<int>(a)], "xyz"[a], plan.cells[a]));
+      throw InputError(
+          fmt::format("domain.size: {:.4g} m along axis {} is {} cells; at least 4 needed (raise domain.size "
+                      "or numerics.cells_per_diameter)",
+                      s.domain_size_si[static_cast<int>(a)], "xyz"[a], plan.cells[a]));
     n[a] = static_cast<int>(plan.cells[a]);
   }
   if (plan.cell_count() > kMaxGridCells)
-    throw InputError(fmt::format("numerics.cells_per_diameter: the domain needs {:.3g} cells (more than {:.0e}); lower "
-                                 "numerics.cells_per_diameter or domain.size",
-                                 plan.cell_count(), kMaxGridCells));
+    throw InputError(
+        fmt::format("numerics.cells_per_diameter: the domain needs {:.3g} cells (more than {:.0e}); lower "
+                    "numerics.cells_per_diameter or domain.size",
+                    plan.cell_count(), kMaxGridCells));
   return n;
 }
 
@@ -77,8 +79,7 @@ double SubstepTimers::total() const {
   return sum;
 }
 
-Simulation::Simulation(SimulationSetup setup)
-    : setup_(std::move(setup)), plan_(plan_case(setup_)) {
+Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), plan_(plan_case(setup_)) {
   const body::Shape& shape = *setup_.shape;
   derived_.cells = grid_cells(plan_, setup_);
   frame_.dx_si = plan_.units.dx_si();
@@ -97,8 +98,8 @@ Simulation::Simulation(SimulationSetup setup)
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
                                             setup_.initial, setup_.motion);
   if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
-  contact_ = start_wall_contact(setup_, plan_.units.dx_si(), plan_.units.dt_si(), derived_.cells,
-                                frame_.window_origin_si);
+  contact_ =
+      start_wall_contact(setup_, plan_.units.dx_si(), plan_.units.dt_si(), derived_.cells, frame_.window_origin_si);
 
   fluid_ = lbm::make_solver(config);
   // With an inlet the fluid starts as its stream and the body appears in it at once: the

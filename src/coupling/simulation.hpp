@@ -66,8 +66,6 @@ struct DerivedQuantities {
   std::size_t marker_count = 0;  ///< surface elements: markers, or wall links at the start
 };
 
-
-
 /// Wall-clock seconds spent in each named sub-step, in step order.
 class SubstepTimers {
  public:
@@ -81,10 +79,10 @@ class SubstepTimers {
 
 /// What one step measured, in SI (inertial frame; torque about the centre of mass).
 struct StepObservation {
-  body::Wrench hydrodynamic;   ///< the sum of the two parts below
+  body::Wrench hydrodynamic;     ///< the sum of the two parts below
   body::Wrench marker_reaction;  ///< minus the sum of the marker forces (and their moments)
   body::Wrench internal_rate;    ///< rate of change of the momentum of the fluid inside the body
-  double slip_max_si = 0.0;  ///< largest |U - U_body| at the markers after forcing, m/s
+  double slip_max_si = 0.0;      ///< largest |U - U_body| at the markers after forcing, m/s
   double slip_rms_si = 0.0;
   /// Particle-wall contact: impulse and angular impulse of the step divided by dt (zero away from
   /// walls); the body corrector received hydrodynamic + contact.

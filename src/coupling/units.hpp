@@ -20,13 +20,13 @@ namespace settle::coupling {
 struct UnitInputs {
   double equivalent_diameter_si = 0.0;  ///< m
   double cells_per_diameter = 16.0;
-  double fluid_density_si = 998.2;      ///< kg/m^3
-  double dynamic_viscosity_si = 1.0e-3; ///< Pa s
-  double expected_speed_si = 0.0;       ///< m/s, the largest velocity expected in the flow
-  double max_lattice_velocity = 0.05;   ///< bound on U dt / dx
+  double fluid_density_si = 998.2;       ///< kg/m^3
+  double dynamic_viscosity_si = 1.0e-3;  ///< Pa s
+  double expected_speed_si = 0.0;        ///< m/s, the largest velocity expected in the flow
+  double max_lattice_velocity = 0.05;    ///< bound on U dt / dx
   double min_tau = 0.5 + 1.0e-3;
   double max_tau = 2.0;
-  std::optional<double> tau;            ///< fixes tau instead of choosing dt
+  std::optional<double> tau;  ///< fixes tau instead of choosing dt
 };
 
 /// Scales between SI and lattice units. Construct with make_unit_converter().
@@ -49,16 +49,16 @@ class UnitConverter {
   double velocity(double velocity_si) const { return velocity_si * dt_si_ / dx_si_; }
   double velocity_si(double velocity) const { return velocity * dx_si_ / dt_si_; }
   /// Force (N): lattice force = mass (density 1 per cell) times acceleration.
-  double force_si(double force) const { return force * rho_si_ * dx_si_ * dx_si_ * dx_si_ * dx_si_ / (dt_si_ * dt_si_); }
+  double force_si(double force) const {
+    return force * rho_si_ * dx_si_ * dx_si_ * dx_si_ * dx_si_ / (dt_si_ * dt_si_);
+  }
   double force(double force_si) const { return force_si / force_si_per_lattice(); }
   double torque_si(double torque) const { return force_si(torque) * dx_si_; }
   /// Force density (N/m^3) to lattice force per cell.
   double force_density(double force_density_si) const {
     return force_density_si * dt_si_ * dt_si_ / (rho_si_ * dx_si_);
   }
-  double force_density_si(double force_density) const {
-    return force_density * rho_si_ * dx_si_ / (dt_si_ * dt_si_);
-  }
+  double force_density_si(double force_density) const { return force_density * rho_si_ * dx_si_ / (dt_si_ * dt_si_); }
 
  private:
   double force_si_per_lattice() const { return force_si(1.0); }

@@ -6,9 +6,7 @@
 
 namespace settle::ibm {
 
-std::string_view to_string(DeltaKernel kernel) {
-  return kernel == DeltaKernel::Roma3 ? "roma3" : "peskin4";
-}
+std::string_view to_string(DeltaKernel kernel) { return kernel == DeltaKernel::Roma3 ? "roma3" : "peskin4"; }
 
 DeltaKernel delta_kernel_from_string(std::string_view name, std::string_view key) {
   if (name == "roma3") return DeltaKernel::Roma3;

@@ -22,9 +22,7 @@ std::string_view to_string(DeltaKernel kernel);
 DeltaKernel delta_kernel_from_string(std::string_view name, std::string_view key);
 
 /// Half-width of the kernel's support in cells (1.5 or 2).
-constexpr double support_half_width(DeltaKernel kernel) {
-  return kernel == DeltaKernel::Roma3 ? 1.5 : 2.0;
-}
+constexpr double support_half_width(DeltaKernel kernel) { return kernel == DeltaKernel::Roma3 ? 1.5 : 2.0; }
 /// Number of grid points the kernel touches along one axis (3 or 4).
 constexpr int stencil_width(DeltaKernel kernel) { return kernel == DeltaKernel::Roma3 ? 3 : 4; }
 
@@ -47,9 +45,7 @@ inline double peskin4(double r) {
   return 0.0;
 }
 
-inline double delta_1d(DeltaKernel kernel, double r) {
-  return kernel == DeltaKernel::Roma3 ? roma3(r) : peskin4(r);
-}
+inline double delta_1d(DeltaKernel kernel, double r) { return kernel == DeltaKernel::Roma3 ? roma3(r) : peskin4(r); }
 
 /// The grid points and weights that a point X (lattice coordinates, cell centres at integers)
 /// touches along one axis: first index and `width` weights phi(X - (first + j)).
@@ -64,9 +60,7 @@ AxisStencil axis_stencil(DeltaKernel kernel, double x);
 /// The tensor-product stencil of a point: weight(i, j, k) = wx[i] * wy[j] * wz[k].
 struct Stencil {
   std::array<AxisStencil, 3> axis;
-  double weight(int i, int j, int k) const {
-    return axis[0].weight[i] * axis[1].weight[j] * axis[2].weight[k];
-  }
+  double weight(int i, int j, int k) const { return axis[0].weight[i] * axis[1].weight[j] * axis[2].weight[k]; }
 };
 
 Stencil stencil_at(DeltaKernel kernel, double x, double y, double z);

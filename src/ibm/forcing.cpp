@@ -18,8 +18,7 @@ void for_each_cell(const LocalGrid& grid, const Stencil& s, Visit&& visit) {
   for (int k = 0; k < s.axis[2].width; ++k)
     for (int j = 0; j < s.axis[1].width; ++j)
       for (int i = 0; i < s.axis[0].width; ++i) {
-        const std::size_t c =
-            grid.index(s.axis[0].first + i, s.axis[1].first + j, s.axis[2].first + k);
+        const std::size_t c = grid.index(s.axis[0].first + i, s.axis[1].first + j, s.axis[2].first + k);
         visit(c, s.weight(i, j, k));
       }
 }
@@ -48,8 +47,7 @@ SlipStats slip_stats(const LocalGrid& grid, const Markers& markers, const std::v
 
 }  // namespace
 
-LocalGrid::LocalGrid(std::array<int, 3> origin, std::array<int, 3> extent)
-    : origin_(origin), extent_(extent) {
+LocalGrid::LocalGrid(std::array<int, 3> origin, std::array<int, 3> extent) : origin_(origin), extent_(extent) {
   const std::size_t n = static_cast<std::size_t>(extent[0]) * extent[1] * extent[2];
   rho.assign(n, 1.0);
   for (auto& v : velocity) v.assign(n, 0.0);

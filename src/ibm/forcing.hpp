@@ -32,9 +32,8 @@ class LocalGrid {
   std::size_t cell_count() const { return rho.size(); }
   /// Linear index of box cell (i, j, k), i fastest.
   std::size_t index(int i, int j, int k) const {
-    return static_cast<std::size_t>(i) +
-           static_cast<std::size_t>(extent_[0]) *
-               (static_cast<std::size_t>(j) + static_cast<std::size_t>(extent_[1]) * k);
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(extent_[0]) *
+                                             (static_cast<std::size_t>(j) + static_cast<std::size_t>(extent_[1]) * k);
   }
   /// True when the stencil lies completely inside the box.
   bool contains(const Stencil& stencil) const;

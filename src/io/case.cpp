@@ -137,9 +137,10 @@ void read_open_faces(const CaseValues& v, coupling::SimulationSetup& s) {
     if (name == "none") return std::nullopt;
     const lbm::Face f = lbm::parse_face(name, key);
     if (s.boundaries[static_cast<std::size_t>(f.axis)] == lbm::Boundary::periodic)
-      throw InputError(fmt::format("{}: face {} lies on an axis whose domain.walls.{} is \"periodic\"; an inlet or outlet "
-                                   "needs walls on its axis (\"no-slip\" or \"free-slip\")",
-                                   key, name, "xyz"[f.axis]));
+      throw InputError(
+          fmt::format("{}: face {} lies on an axis whose domain.walls.{} is \"periodic\"; an inlet or outlet "
+                      "needs walls on its axis (\"no-slip\" or \"free-slip\")",
+                      key, name, "xyz"[f.axis]));
     return f;
   };
   s.inflow = face("domain.inflow");
@@ -169,16 +170,18 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.gravity_si = vector3(v, "fluid.gravity");
   s.body_force_si = vector3(v, "fluid.body_force");
 
-  if (!v.has("domain.size")) throw InputError("domain.size: required (extent of the domain in m, e.g. [0.04, 0.04, 0.12])");
+  if (!v.has("domain.size"))
+    throw InputError("domain.size: required (extent of the domain in m, e.g. [0.04, 0.04, 0.12])");
   s.domain_size_si = vector3(v, "domain.size");
   s.boundaries = {wall(v, "domain.walls.x"), wall(v, "domain.walls.y"), wall(v, "domain.walls.z")};
   read_open_faces(v, s);
   s.follow_particle = v.boolean("domain.follow_particle");
 
-  s.initial.position_si = v.has("particle.position") ? vector3(v, "particle.position") : Eigen::Vector3d(0.5 * s.domain_size_si);
+  s.initial.position_si =
+      v.has("particle.position") ? vector3(v, "particle.position") : Eigen::Vector3d(0.5 * s.domain_size_si);
   const Eigen::Vector3d euler = vector3(v, "particle.euler");
-  s.initial.attitude = attitude::Attitude::from_matrix(
-      attitude::Attitude::from_set1(euler[0], euler[1], euler[2]).body_to_inertial());
+  s.initial.attitude =
+      attitude::Attitude::from_matrix(attitude::Attitude::from_set1(euler[0], euler[1], euler[2]).body_to_inertial());
   s.initial.velocity_si = vector3(v, "particle.velocity");
   s.initial.angular_velocity_b_si = vector3(v, "particle.angular_velocity");
   if (s.motion == body::MotionKind::towed) {
@@ -186,16 +189,19 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
       throw InputError("particle.towing_velocity: required when particle.motion = \"towed\" (m/s, e.g. [0, 0, -0.05])");
     s.initial.velocity_si = vector3(v, "particle.towing_velocity");
   } else if (v.has("particle.towing_velocity")) {
-    throw InputError("particle.towing_velocity: only for particle.motion = \"towed\"; remove it or set motion = \"towed\"");
+    throw InputError(
+        "particle.towing_velocity: only for particle.motion = \"towed\"; remove it or set motion = \"towed\"");
   }
   s.release_time_si = v.real("particle.release_time");
   if (s.release_time_si > 0.0 && s.motion != body::MotionKind::free)
-    throw InputError("particle.release_time: only for particle.motion = \"free\" (a towed or fixed body is never "
-                     "released); remove it or set motion = \"free\"");
+    throw InputError(
+        "particle.release_time: only for particle.motion = \"free\" (a towed or fixed body is never "
+        "released); remove it or set motion = \"free\"");
   if (s.release_time_si > 0.0 && s.release_time_si >= v.real("run.end_time"))
-    throw InputError(fmt::format("particle.release_time: {:g} s is not before run.end_time ({:g} s), so the body would "
-                                 "never move freely; lower it or raise run.end_time",
-                                 s.release_time_si, v.real("run.end_time")));
+    throw InputError(
+        fmt::format("particle.release_time: {:g} s is not before run.end_time ({:g} s), so the body would "
+                    "never move freely; lower it or raise run.end_time",
+                    s.release_time_si, v.real("run.end_time")));
   if (s.motion == body::MotionKind::fixed) {
     s.initial.velocity_si.setZero();
     s.initial.angular_velocity_b_si.setZero();

@@ -59,11 +59,25 @@ std::vector<KeySpec> declare() {
       vector3("particle.semi_axes", std::nullopt, "m", positive(),
               "ellipsoid and superellipsoid semi-axes along body x, y, z"),
       // Superellipsoid::kMinExponent..kMaxExponent (convex superellipsoids only).
-      {"particle.exponents", Kind::RealArray, std::nullopt, "", "superellipsoid exponents e1 (z), e2 (x-y)",
-       closed(0.1, 2.0), {}, 2},
-      real("particle.length", std::nullopt, "m", positive(), "cylinder length along body z (a disk is a short cylinder)"),
+      {"particle.exponents",
+       Kind::RealArray,
+       std::nullopt,
+       "",
+       "superellipsoid exponents e1 (z), e2 (x-y)",
+       closed(0.1, 2.0),
+       {},
+       2},
+      real("particle.length", std::nullopt, "m", positive(),
+           "cylinder length along body z (a disk is a short cylinder)"),
       vector3("particle.size", std::nullopt, "m", positive(), "cuboid edge lengths along body x, y, z"),
-      {"particle.file", Kind::String, std::nullopt, "", "mesh: watertight STL file (relative to the case file)", {}, {}, 0},
+      {"particle.file",
+       Kind::String,
+       std::nullopt,
+       "",
+       "mesh: watertight STL file (relative to the case file)",
+       {},
+       {},
+       0},
       // Optional rather than defaulted: a default would be written to case.resolved.toml and read
       // back as given, and the shape factory refuses scale for every shape but a mesh.
       real("particle.scale", std::nullopt, "m per file unit", positive(),
@@ -115,8 +129,7 @@ std::vector<KeySpec> declare() {
       real("numerics.max_lattice_velocity", Value(0.05), "", {0.0, 0.2, false, true},
            "largest lattice velocity U dt/dx of the expected speed (Mach bound for choosing dt)"),
       // tau must exceed the converter's min_tau = 0.501 (coupling/units.hpp).
-      real("numerics.max_tau", Value(2.0), "", {0.501, 5.0, false, true},
-           "largest relaxation time when choosing dt"),
+      real("numerics.max_tau", Value(2.0), "", {0.501, 5.0, false, true}, "largest relaxation time when choosing dt"),
       real("numerics.tau", std::nullopt, "", {0.501, 5.0, false, true},
            "relaxation time; when given, dt follows from it instead of the Mach and tau bounds"),
       // [contact]: particle-wall contact (body/contact.hpp, docs/rigid-body.md); the bounds are
@@ -126,7 +139,8 @@ std::vector<KeySpec> declare() {
       real("contact.restitution", Value(0.97), "", {0.0, 1.0, false, true},
            "dry normal restitution coefficient e (glass, steel: about 0.97)"),
       real("contact.wet_stokes_scale", Value(35.0), "", closed(0.0, 1.0e3),
-           "wet restitution: each contact takes restitution x exp(-beta/St), St = rho_p v d_eq / (9 mu) at impact, beta this "
+           "wet restitution: each contact takes restitution x exp(-beta/St), St = rho_p v d_eq / (9 mu) at impact, "
+           "beta this "
            "value (Legendre et al. 2006; docs/rigid-body.md); 0: dry contacts"),
       real("contact.collision_steps", Value(10.0), "", closed(1.0, 1.0e4),
            "collision time T_c in fluid time steps (Kempe and Froehlich 2012)"),
@@ -136,16 +150,23 @@ std::vector<KeySpec> declare() {
            "gap at which the contact spring starts (absent: the delta kernel's half-width; at least half-width - 0.5)"),
       // [run]
       real("run.end_time", Value(1.0), "s", positive(), "simulated time to run"),
-      real("run.output_interval", Value(0.005), "s", non_negative(), "interval of timeseries.csv rows (0 = every step)"),
+      real("run.output_interval", Value(0.005), "s", non_negative(),
+           "interval of timeseries.csv rows (0 = every step)"),
       real("run.vtk_interval", Value(0.0), "s", non_negative(), "interval of VTK output (0 = none)"),
       boolean("run.stop_at_terminal", false, "end once the terminal state is reached"),
       real("run.checkpoint_interval", Value(0.0), "s", non_negative(),
            "simulated time between checkpoints in DIR/checkpoint.bin (0 = none; SIGINT or SIGTERM writes one anyway)"),
       real("run.checkpoint_wall_interval", Value(0.0), "s", non_negative(),
            "wall-clock time between checkpoints, whichever of the two comes first (0 = none)"),
-      {"run.reference", Kind::String, std::nullopt, "",
-       "key of validation/reference-data.json the run is compared with (e.g. \"tenCate2002_E1\"), copied to summary.json",
-       {}, {}, 0},
+      {"run.reference",
+       Kind::String,
+       std::nullopt,
+       "",
+       "key of validation/reference-data.json the run is compared with (e.g. \"tenCate2002_E1\"), copied to "
+       "summary.json",
+       {},
+       {},
+       0},
   };
 }
 

@@ -130,7 +130,8 @@ double iapws2008_viscosity_si(double temperature_k, double density_si) {
   const double t_bar = temperature_k / 647.096;
   const double rho_bar = density_si / 322.0;
   double mu0_denominator = 0.0;
-  for (std::size_t i = 0; i < kIapwsH0.size(); ++i) mu0_denominator += kIapwsH0[i] / std::pow(t_bar, static_cast<double>(i));
+  for (std::size_t i = 0; i < kIapwsH0.size(); ++i)
+    mu0_denominator += kIapwsH0[i] / std::pow(t_bar, static_cast<double>(i));
   const double mu0 = 100.0 * std::sqrt(t_bar) / mu0_denominator;
   double sum = 0.0;
   double temperature_power = 1.0;  // (1/Tbar - 1)^i
@@ -158,7 +159,8 @@ FluidProperties glycerol_water_properties(double glycerol_mass_fraction, double 
   require_in_range(temperature_c, 0.0, 100.0, "temperature (C)");
   const double c = glycerol_mass_fraction, t = temperature_c;
   const double alpha = cheng_exponent(c, t);
-  const double viscosity = std::pow(cheng_water_viscosity_si(t), alpha) * std::pow(cheng_glycerol_viscosity_si(t), 1.0 - alpha);
+  const double viscosity =
+      std::pow(cheng_water_viscosity_si(t), alpha) * std::pow(cheng_glycerol_viscosity_si(t), 1.0 - alpha);
   const double rho_w = volk_water_density_si(t), rho_g = volk_glycerol_density_si(t);
   // Ideal mixing by volume (1/rho = c/rho_g + (1 - c)/rho_w), written without 1/c so that c = 0
   // is pure water; times the contraction.

@@ -11,10 +11,9 @@ namespace settle::io {
 
 const std::vector<std::string>& timeseries_columns() {
   static const std::vector<std::string> columns{
-      "t",     "x",     "y",       "z",       "ux",      "uy",        "uz", "wx", "wy", "wz",
-      "wbx",   "wby",   "wbz",     "psi",     "theta",   "gamma",     "psi_r", "theta_r", "gamma_r",
-      "euler_set", "Fx", "Fy",     "Fz",      "Tx",      "Ty",        "Tz", "Re", "slip_max", "slip_rms",
-      "Fcx", "Fcy", "Fcz", "wall_gap"};
+      "t",   "x",   "y",   "z",     "ux",    "uy",       "uz",       "wx",      "wy",        "wz",  "wbx",
+      "wby", "wbz", "psi", "theta", "gamma", "psi_r",    "theta_r",  "gamma_r", "euler_set", "Fx",  "Fy",
+      "Fz",  "Tx",  "Ty",  "Tz",    "Re",    "slip_max", "slip_rms", "Fcx",     "Fcy",       "Fcz", "wall_gap"};
   return columns;
 }
 
@@ -28,8 +27,10 @@ TimeseriesWriter TimeseriesWriter::continue_at(const std::filesystem::path& path
   const std::uintmax_t size = std::filesystem::file_size(path, error);
   if (error) throw InputError(fmt::format("{}: cannot continue it: {}", path.string(), error.message()));
   if (size < keep_bytes)
-    throw InputError(fmt::format("{}: holds {} bytes, fewer than the {} it held at the checkpoint: the rows before the "
-                                 "checkpoint are missing; cannot continue this run", path.string(), size, keep_bytes));
+    throw InputError(
+        fmt::format("{}: holds {} bytes, fewer than the {} it held at the checkpoint: the rows before the "
+                    "checkpoint are missing; cannot continue this run",
+                    path.string(), size, keep_bytes));
   std::filesystem::resize_file(path, keep_bytes, error);
   if (error)
     throw InputError(fmt::format("{}: cannot cut it to {} bytes: {}", path.string(), keep_bytes, error.message()));

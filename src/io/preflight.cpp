@@ -13,10 +13,10 @@
 
 #include <fmt/core.h>
 
-#include "coupling/immersed_body.hpp"
-#include "coupling/runner.hpp"
 #include "common/error.hpp"
 #include "common/require.hpp"
+#include "coupling/immersed_body.hpp"
+#include "coupling/runner.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
@@ -47,8 +47,8 @@ void require_finite(double value, std::string_view key) {
 void require_finite(const Eigen::Vector3d& value, std::string_view key) {
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(value[a]))
-      throw InputError(fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1],
-                                   value[2]));
+      throw InputError(
+          fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1], value[2]));
 }
 
 void check_numbers(const coupling::SimulationSetup& s) {
@@ -79,31 +79,36 @@ void check_numbers(const coupling::SimulationSetup& s) {
 // there that would let an unsafe dt through (and against NaN from extreme inputs).
 coupling::CasePlan checked_plan(const coupling::SimulationSetup& s) {
   const coupling::CasePlan plan = coupling::plan_case(s);
-  require_positive(plan.units.dt_si(), "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
+  require_positive(plan.units.dt_si(),
+                   "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
   const double u = plan.units.velocity(plan.expected_speed_si);
   if (!(u <= s.max_lattice_velocity * (1.0 + 1e-12)))
-    throw InputError(fmt::format("numerics.max_lattice_velocity: the expected speed {:.4g} m/s is {:.4g} in lattice "
-                                 "units (Mach {:.3g}) with dt = {:.4g} s, above the bound {}",
-                                 plan.expected_speed_si, u, coupling::mach_number(u), plan.units.dt_si(),
-                                 s.max_lattice_velocity));
+    throw InputError(
+        fmt::format("numerics.max_lattice_velocity: the expected speed {:.4g} m/s is {:.4g} in lattice "
+                    "units (Mach {:.3g}) with dt = {:.4g} s, above the bound {}",
+                    plan.expected_speed_si, u, coupling::mach_number(u), plan.units.dt_si(), s.max_lattice_velocity));
   return plan;
 }
 
 // ---- 4. grid and memory ---------------------------------------------------------------------
 
-void check_grid_size(const GridExtent& grid, double dx_si, const Eigen::Vector3d& domain_size_si, double estimate_bytes) {
+void check_grid_size(const GridExtent& grid, double dx_si, const Eigen::Vector3d& domain_size_si,
+                     double estimate_bytes) {
   for (int a = 0; a < 3; ++a) {
     const double n = grid.cells[static_cast<std::size_t>(a)];
     if (n < 4.0)
-      throw InputError(fmt::format("domain.size: {:.4g} m along {} is {} cells of dx = {:.4g} m; at least 4 are needed "
-                                   "(raise domain.size or numerics.cells_per_diameter)",
-                                   domain_size_si[a], kAxis[a], n, dx_si));
+      throw InputError(
+          fmt::format("domain.size: {:.4g} m along {} is {} cells of dx = {:.4g} m; at least 4 are needed "
+                      "(raise domain.size or numerics.cells_per_diameter)",
+                      domain_size_si[a], kAxis[a], n, dx_si));
   }
   if (grid.total() > coupling::kMaxGridCells)
     throw InputError(fmt::format(
-        "numerics.cells_per_diameter: the grid would be {:.4g} x {:.4g} x {:.4g} = {:.3g} cells of dx = {:.4g} m (about "
+        "numerics.cells_per_diameter: the grid would be {:.4g} x {:.4g} x {:.4g} = {:.3g} cells of dx = {:.4g} m "
+        "(about "
         "{} of memory), more than the {:.0e} cells settle allocates; lower numerics.cells_per_diameter or domain.size",
-        grid.cells[0], grid.cells[1], grid.cells[2], grid.total(), dx_si, bytes_text(estimate_bytes), coupling::kMaxGridCells));
+        grid.cells[0], grid.cells[1], grid.cells[2], grid.total(), dx_si, bytes_text(estimate_bytes),
+        coupling::kMaxGridCells));
 }
 
 // Bytes of the lattice parts for a grid too large to lay out: Q + 3 values per cell.
@@ -131,8 +136,9 @@ double links_of(const std::array<int, 3>& n) {
 void check_centre_inside(const Eigen::Vector3d& p, const std::array<double, 3>& extent_si) {
   for (int a = 0; a < 3; ++a)
     if (p[a] < 0.0 || p[a] > extent_si[static_cast<std::size_t>(a)])
-      throw InputError(fmt::format("particle.position: the centre's {} = {:.4g} m lies outside the domain [0, {:.4g}] m",
-                                   kAxis[a], p[a], extent_si[static_cast<std::size_t>(a)]));
+      throw InputError(
+          fmt::format("particle.position: the centre's {} = {:.4g} m lies outside the domain [0, {:.4g}] m", kAxis[a],
+                      p[a], extent_si[static_cast<std::size_t>(a)]));
 }
 
 void check_width(const FaceClearance& c, const std::array<double, 3>& extent_si, double dx_si,
@@ -140,26 +146,30 @@ void check_width(const FaceClearance& c, const std::array<double, 3>& extent_si,
   for (std::size_t a = 0; a < 3; ++a) {
     if (c.width_si[a] < extent_si[a]) continue;
     const bool periodic = s.boundaries[a] == lbm::Boundary::periodic;
-    throw InputError(fmt::format(
-        "domain.size: the particle is {:.4g} m wide along {} at its initial attitude (particle.euler) but the domain is "
-        "only {:.4g} m ({:.0f} cells of dx = {:.4g} m){}; enlarge domain.size along {}",
-        c.width_si[a], kAxis[a], extent_si[a], extent_si[a] / dx_si, dx_si,
-        periodic ? ", and periodic: the particle would overlap its own image" : "", kAxis[a]));
+    throw InputError(
+        fmt::format("domain.size: the particle is {:.4g} m wide along {} at its initial attitude (particle.euler) but "
+                    "the domain is "
+                    "only {:.4g} m ({:.0f} cells of dx = {:.4g} m){}; enlarge domain.size along {}",
+                    c.width_si[a], kAxis[a], extent_si[a], extent_si[a] / dx_si, dx_si,
+                    periodic ? ", and periodic: the particle would overlap its own image" : "", kAxis[a]));
   }
 }
 
-void check_walls_clear(const FaceClearance& c, const std::array<double, 3>& extent_si, const coupling::SimulationSetup& s) {
+void check_walls_clear(const FaceClearance& c, const std::array<double, 3>& extent_si,
+                       const coupling::SimulationSetup& s) {
   for (std::size_t a = 0; a < 3; ++a) {
     if (s.boundaries[a] == lbm::Boundary::periodic) continue;
     const double lowest = c.lower_si[a], highest = extent_si[a] - c.upper_si[a];
     if (c.lower_si[a] < 0.0)
-      throw InputError(fmt::format("particle.position: the particle overlaps the wall at {} = 0: at its initial attitude "
-                                   "it reaches down to {} = {:.4g} m; move it at least {:.4g} m further in",
-                                   kAxis[a], kAxis[a], lowest, -c.lower_si[a]));
+      throw InputError(
+          fmt::format("particle.position: the particle overlaps the wall at {} = 0: at its initial attitude "
+                      "it reaches down to {} = {:.4g} m; move it at least {:.4g} m further in",
+                      kAxis[a], kAxis[a], lowest, -c.lower_si[a]));
     if (c.upper_si[a] < 0.0)
-      throw InputError(fmt::format("particle.position: the particle overlaps the wall at {} = {:.4g} m: at its initial "
-                                   "attitude it reaches up to {} = {:.4g} m; move it at least {:.4g} m further in",
-                                   kAxis[a], extent_si[a], kAxis[a], highest, -c.upper_si[a]));
+      throw InputError(
+          fmt::format("particle.position: the particle overlaps the wall at {} = {:.4g} m: at its initial "
+                      "attitude it reaches up to {} = {:.4g} m; move it at least {:.4g} m further in",
+                      kAxis[a], extent_si[a], kAxis[a], highest, -c.upper_si[a]));
   }
 }
 
@@ -167,10 +177,11 @@ void check_walls_clear(const FaceClearance& c, const std::array<double, 3>& exte
 
 void check_markers(double markers, double dx_si) {
   if (markers > kMaxMarkers)
-    throw InputError(fmt::format(
-        "numerics.cells_per_diameter: about {:.3g} surface markers at dx = {:.4g} m, more than the {:.0e} settle builds "
-        "(their construction alone would need over a gigabyte); lower numerics.cells_per_diameter",
-        markers, dx_si, kMaxMarkers));
+    throw InputError(
+        fmt::format("numerics.cells_per_diameter: about {:.3g} surface markers at dx = {:.4g} m, more than the {:.0e} "
+                    "settle builds "
+                    "(their construction alone would need over a gigabyte); lower numerics.cells_per_diameter",
+                    markers, dx_si, kMaxMarkers));
 }
 
 // Interior markers (numerics.interior_markers) fill the body from interior_lattice_depth_cells below
@@ -179,16 +190,18 @@ void check_markers(double markers, double dx_si) {
 // other shapes, which is all a memory estimate needs.
 double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_si) {
   if (!s.interior_markers) return 0.0;
-  const double volume = s.shape->volume(), depth_si = coupling::interior_lattice_depth_cells(s.marker_retraction_cells) * dx_si;
+  const double volume = s.shape->volume(),
+               depth_si = coupling::interior_lattice_depth_cells(s.marker_retraction_cells) * dx_si;
   const double shrink = std::max(0.0, 1.0 - depth_si * s.shape->surface_area() / (3.0 * volume));
   return volume * shrink * shrink * shrink / (dx_si * dx_si * dx_si);
 }
 
 double checked_steps(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
   if (!(plan.steps <= kMaxSteps))
-    throw InputError(fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
-                                 "count; lower run.end_time",
-                                 s.end_time_si, plan.steps, plan.units.dt_si()));
+    throw InputError(
+        fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
+                    "count; lower run.end_time",
+                    s.end_time_si, plan.steps, plan.units.dt_si()));
   return std::max(1.0, plan.steps);
 }
 
@@ -203,17 +216,20 @@ std::vector<std::string> advisories(const coupling::SimulationSetup& s, double d
   const body::Aabb box = s.shape->bounding_box();
   const double thinnest_cells = (box.upper - box.lower).minCoeff() / dx_si;
   if (thinnest_cells < 2.0)
-    out.push_back(fmt::format("numerics.cells_per_diameter: the particle is {:.2g} cells thick along its thinnest body "
-                              "axis; below 2 cells the immersed boundary smears it out (raise "
-                              "numerics.cells_per_diameter)",
-                              thinnest_cells));
+    out.push_back(
+        fmt::format("numerics.cells_per_diameter: the particle is {:.2g} cells thick along its thinnest body "
+                    "axis; below 2 cells the immersed boundary smears it out (raise "
+                    "numerics.cells_per_diameter)",
+                    thinnest_cells));
   if (s.end_time_si < dt_si)
-    out.push_back(fmt::format("run.end_time: {} s is shorter than one time step (dt = {:.4g} s); the run makes one step",
-                              s.end_time_si, dt_si));
+    out.push_back(
+        fmt::format("run.end_time: {} s is shorter than one time step (dt = {:.4g} s); the run makes one step",
+                    s.end_time_si, dt_si));
   if (s.output_interval_si > 0.0 && s.output_interval_si < dt_si)
-    out.push_back(fmt::format("run.output_interval: {} s is shorter than one time step (dt = {:.4g} s); a row is "
-                              "written every step",
-                              s.output_interval_si, dt_si));
+    out.push_back(
+        fmt::format("run.output_interval: {} s is shorter than one time step (dt = {:.4g} s); a row is "
+                    "written every step",
+                    s.output_interval_si, dt_si));
   return out;
 }
 
@@ -283,13 +299,14 @@ void check_memory(const MemoryEstimate& m, double budget_bytes, std::string_view
   if (total <= budget_bytes) return;
   // Name the key whose change helps most: the kept samples when they dominate, else the grid.
   const bool samples_dominate = m.output_bytes > 0.5 * total;
-  throw InputError(fmt::format(
-      "{}: the run needs about {} of memory (fluid {}, outputs {}) but the budget is {} ({}); {}, or raise "
-      "the budget with settle run --max-memory GIB",
-      samples_dominate ? "run.output_interval" : "numerics.cells_per_diameter", bytes_text(total),
-      bytes_text(m.populations_bytes + m.force_bytes + m.flag_bytes + m.boundary_links_bytes),
-      bytes_text(m.output_bytes), bytes_text(budget_bytes), budget_source,
-      samples_dominate ? "raise run.output_interval (fewer rows kept)" : "lower numerics.cells_per_diameter or domain.size"));
+  throw InputError(
+      fmt::format("{}: the run needs about {} of memory (fluid {}, outputs {}) but the budget is {} ({}); {}, or raise "
+                  "the budget with settle run --max-memory GIB",
+                  samples_dominate ? "run.output_interval" : "numerics.cells_per_diameter", bytes_text(total),
+                  bytes_text(m.populations_bytes + m.force_bytes + m.flag_bytes + m.boundary_links_bytes),
+                  bytes_text(m.output_bytes), bytes_text(budget_bytes), budget_source,
+                  samples_dominate ? "raise run.output_interval (fewer rows kept)"
+                                   : "lower numerics.cells_per_diameter or domain.size"));
 }
 
 FaceClearance face_clearance(const body::Shape& shape, const Eigen::Vector3d& position_si,
@@ -309,15 +326,14 @@ FaceClearance face_clearance(const body::Shape& shape, const Eigen::Vector3d& po
 
 void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, const std::array<double, 3>& cells) {
   const std::array<double, 3> extent_si{cells[0] * dx_si, cells[1] * dx_si, cells[2] * dx_si};
-  const FaceClearance clearance =
-      face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(),
-                     Eigen::Vector3d(extent_si[0], extent_si[1], extent_si[2]));
+  const FaceClearance clearance = face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(),
+                                                 Eigen::Vector3d(extent_si[0], extent_si[1], extent_si[2]));
   check_centre_inside(s.initial.position_si, extent_si);
   check_width(clearance, extent_si, dx_si, s);
   check_walls_clear(clearance, extent_si, s);
   // The grid fits in int: check_grid_size came first.
-  coupling::check_body_box_in_grid(s, dx_si, {static_cast<int>(cells[0]), static_cast<int>(cells[1]),
-                                              static_cast<int>(cells[2])});
+  coupling::check_body_box_in_grid(
+      s, dx_si, {static_cast<int>(cells[0]), static_cast<int>(cells[1]), static_cast<int>(cells[2])});
 }
 
 void check_net_weight(const coupling::SimulationSetup& s) {
@@ -333,8 +349,8 @@ void check_net_weight(const coupling::SimulationSetup& s) {
         "{} along {}{} under fluid.gravity, and the domain is periodic along {}: nothing carries its net weight, so "
         "fluid and particle would accelerate without bound. Use \"no-slip\" or \"free-slip\" along {} (with "
         "domain.follow_particle = true for a long path), or particle.motion = \"fixed\" or \"towed\"",
-        kAxis[a], heavy ? "heavier" : "lighter", s.particle_density_si, s.fluid_density_si,
-        heavy ? "sinks" : "rises", drifts_up ? "+" : "-", kAxis[a], kAxis[a], kAxis[a]));
+        kAxis[a], heavy ? "heavier" : "lighter", s.particle_density_si, s.fluid_density_si, heavy ? "sinks" : "rises",
+        drifts_up ? "+" : "-", kAxis[a], kAxis[a], kAxis[a]));
   }
 }
 
@@ -354,7 +370,8 @@ void check_output_directory(const fs::path& dir, std::string_view flag) {
   while (!ancestor.empty() && !fs::exists(fs::status(ancestor, error))) ancestor = ancestor.parent_path();
   if (ancestor.empty()) ancestor = target.is_absolute() ? target.root_path() : fs::path(".");
   if (!fs::is_directory(fs::status(ancestor, error)))
-    throw InputError(fmt::format("{} {}: cannot be created: {} is not a directory", flag, target.string(), ancestor.string()));
+    throw InputError(
+        fmt::format("{} {}: cannot be created: {} is not a directory", flag, target.string(), ancestor.string()));
   if (const std::string why = write_refusal(ancestor); !why.empty())
     throw InputError(fmt::format("{} {}: cannot be created: {} is not writable ({})", flag, target.string(),
                                  ancestor.string(), why));
@@ -365,7 +382,8 @@ std::string PreflightReport::summary() const {
                                  ? fmt::format("budget {}, {}", bytes_text(*memory_budget_bytes), memory_budget_source)
                                  : std::string("available memory unknown");
   return fmt::format("grid {}x{}x{} = {:.3g} cells, {:.4g} steps, about {:.3g} markers; memory estimate {} ({})",
-                     cells[0], cells[1], cells[2], cell_count, steps, markers, bytes_text(memory.total_bytes()), budget);
+                     cells[0], cells[1], cells[2], cell_count, steps, markers, bytes_text(memory.total_bytes()),
+                     budget);
 }
 
 PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOptions& options) {

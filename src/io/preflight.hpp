@@ -65,9 +65,9 @@ struct MemoryInputs {
   std::array<int, 3> cells{};
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::Precision precision = lbm::Precision::float64;
-  double body_box_cells = 0.0;  ///< cells of the box around the body (radius + stencil)
-  double markers = 0.0;         ///< surface and interior markers
-  double samples = 0.0;         ///< timeseries rows the run keeps in memory
+  double body_box_cells = 0.0;             ///< cells of the box around the body (radius + stencil)
+  double markers = 0.0;                    ///< surface and interior markers
+  double samples = 0.0;                    ///< timeseries rows the run keeps in memory
   bool velocity_field_per_sample = false;  ///< fixed bodies sample the superficial velocity
 };
 MemoryEstimate estimate_memory(const MemoryInputs& inputs);
@@ -99,8 +99,7 @@ FaceClearance face_clearance(const body::Shape& shape, const Eigen::Vector3d& po
 /// Step 5 of the file comment. `cells` are the grid's cells per axis: the walls are the grid's
 /// faces, at 0 and cells x dx. Periodic axes have no wall; there the body and the cells its
 /// coupling works on must only span less than the period (coupling::check_body_box_in_grid).
-void check_particle_in_domain(const coupling::SimulationSetup& setup, double dx_si,
-                              const std::array<double, 3>& cells);
+void check_particle_in_domain(const coupling::SimulationSetup& setup, double dx_si, const std::array<double, 3>& cells);
 
 /// Step 3. A free particle whose net weight (rho_p - rho_f) V g is not zero drifts along
 /// sign(rho_p - rho_f) g: a heavy one sinks, a light one rises. With walls, the walls carry the

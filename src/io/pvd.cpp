@@ -53,7 +53,8 @@ PvdCollection PvdCollection::resume(fs::path pvd_path, double keep_until_time_si
 }
 
 void PvdCollection::add(double time_si, const fs::path& file) {
-  if (!std::isfinite(time_si)) throw std::invalid_argument(fmt::format("PvdCollection::add: time {} is not finite", time_si));
+  if (!std::isfinite(time_si))
+    throw std::invalid_argument(fmt::format("PvdCollection::add: time {} is not finite", time_si));
   if (!entries_.empty() && time_si <= entries_.back().time_si)
     throw std::invalid_argument(fmt::format("PvdCollection::add: time {} does not follow the last entry's {}", time_si,
                                             entries_.back().time_si));

@@ -70,9 +70,12 @@ std::optional<Value> value_from_node(const toml::node& node, Kind kind) {
       if (!array) return std::nullopt;
       std::vector<double> out;
       for (const toml::node& element : *array) {
-        if (auto f = element.as_floating_point()) out.push_back(f->get());
-        else if (auto i = element.as_integer()) out.push_back(static_cast<double>(i->get()));
-        else return std::nullopt;
+        if (auto f = element.as_floating_point())
+          out.push_back(f->get());
+        else if (auto i = element.as_integer())
+          out.push_back(static_cast<double>(i->get()));
+        else
+          return std::nullopt;
       }
       return Value(std::move(out));
     }
@@ -133,8 +136,10 @@ void walk(const toml::table& table, const std::string& prefix, CaseValues& value
       // pass silently and leave the user's intended values at their defaults.
       if (!is_table_path(values.schema(), path)) {
         std::string message = fmt::format("{}: unknown table [{}]", origin, path);
-        if (auto close = suggest_table(values.schema(), path)) message += fmt::format(" (did you mean [{}]?)", *close);
-        else message += "; see `settle schema` for the tables and keys a case may hold";
+        if (auto close = suggest_table(values.schema(), path))
+          message += fmt::format(" (did you mean [{}]?)", *close);
+        else
+          message += "; see `settle schema` for the tables and keys a case may hold";
         throw InputError(message);
       }
       walk(*node.as_table(), path, values, origin);
@@ -146,14 +151,16 @@ void walk(const toml::table& table, const std::string& prefix, CaseValues& value
     }
     if (!spec) {
       std::string message = fmt::format("{}: unknown key {}", origin, display_key(path));
-      if (auto close = values.schema().suggest(path)) message += fmt::format(" (did you mean {}?)", display_key(*close));
-      else message += fmt::format("; see `settle schema` for the keys a case may hold");
+      if (auto close = values.schema().suggest(path))
+        message += fmt::format(" (did you mean {}?)", display_key(*close));
+      else
+        message += fmt::format("; see `settle schema` for the keys a case may hold");
       throw InputError(message);
     }
     auto value = value_from_node(node, spec->kind);
     if (!value)
-      throw InputError(fmt::format("{}: {} = {}: expected {}", origin, display_key(path), node_text(node),
-                                   to_string(spec->kind)));
+      throw InputError(
+          fmt::format("{}: {} = {}: expected {}", origin, display_key(path), node_text(node), to_string(spec->kind)));
     values.set(path, std::move(*value), origin);
   }
 }
@@ -181,11 +188,16 @@ std::string Range::describe(bool integral) const {
 
 std::string_view to_string(Kind kind) {
   switch (kind) {
-    case Kind::Boolean: return "a boolean (true or false)";
-    case Kind::Integer: return "an integer";
-    case Kind::Real: return "a number";
-    case Kind::String: return "a string";
-    case Kind::RealArray: return "an array of numbers";
+    case Kind::Boolean:
+      return "a boolean (true or false)";
+    case Kind::Integer:
+      return "an integer";
+    case Kind::Real:
+      return "a number";
+    case Kind::String:
+      return "a string";
+    case Kind::RealArray:
+      return "an array of numbers";
   }
   return "?";
 }
@@ -202,12 +214,18 @@ std::string to_toml(const Value& value) {
       std::string out = "\"";
       for (char c : s) {
         const auto byte = static_cast<unsigned char>(c);
-        if (c == '"' || c == '\\') out += std::string{'\\', c};
-        else if (c == '\n') out += "\\n";
-        else if (c == '\t') out += "\\t";
-        else if (c == '\r') out += "\\r";
-        else if (byte < 0x20 || byte == 0x7F) out += fmt::format("\\u{:04X}", byte);
-        else out += c;
+        if (c == '"' || c == '\\')
+          out += std::string{'\\', c};
+        else if (c == '\n')
+          out += "\\n";
+        else if (c == '\t')
+          out += "\\t";
+        else if (c == '\r')
+          out += "\\r";
+        else if (byte < 0x20 || byte == 0x7F)
+          out += fmt::format("\\u{:04X}", byte);
+        else
+          out += c;
       }
       return out + "\"";
     }
@@ -286,7 +304,8 @@ std::string check_value(const KeySpec& spec, const Value& value) {
       const std::string range = spec.range.describe();
       for (double x : v)
         if (!std::isfinite(x) || !spec.range.contains(x))
-          return fail(range == "finite" ? "an array of finite numbers" : "an array whose elements are finite and " + range);
+          return fail(range == "finite" ? "an array of finite numbers"
+                                        : "an array whose elements are finite and " + range);
       return "";
     }
   }
@@ -309,8 +328,7 @@ const KeySpec& CaseValues::spec(std::string_view path) const {
 const Value& CaseValues::value(std::string_view path) const {
   spec(path);
   const auto it = values_.find(path);
-  if (it == values_.end())
-    throw InputError(fmt::format("{} is required here but not given", display_key(path)));
+  if (it == values_.end()) throw InputError(fmt::format("{} is required here but not given", display_key(path)));
   return it->second;
 }
 
@@ -370,8 +388,10 @@ void apply_override(CaseValues& values, std::string_view assignment) {
   if (!spec) {
     // Dotted names here: that is how a key is written on the command line.
     std::string message = fmt::format("--set: unknown key {}", path);
-    if (auto close = schema.suggest(path)) message += fmt::format(" (did you mean {}?)", *close);
-    else message += "; see `settle schema` for the keys a case may hold";
+    if (auto close = schema.suggest(path))
+      message += fmt::format(" (did you mean {}?)", *close);
+    else
+      message += "; see `settle schema` for the keys a case may hold";
     throw InputError(message);
   }
   const std::string_view text = assignment.substr(eq + 1);
@@ -385,15 +405,13 @@ void apply_override(CaseValues& values, std::string_view assignment) {
     if (spec->kind == Kind::String)
       throw InputError(fmt::format("--set {}: not a TOML value; a string needs double quotes, e.g. --set '{}=\"{}\"'",
                                    assignment, path, text));
-    throw InputError(fmt::format("--set {}: the value is not valid TOML ({}); expected {}", assignment,
-                                 e.description(), to_string(spec->kind)));
+    throw InputError(fmt::format("--set {}: the value is not valid TOML ({}); expected {}", assignment, e.description(),
+                                 to_string(spec->kind)));
   }
   // "--set 'a=1\nb=2'" parses as two keys: only one value may follow the '='.
-  if (table.size() != 1)
-    throw InputError(fmt::format("--set {}: expected a single value after '='", assignment));
+  if (table.size() != 1) throw InputError(fmt::format("--set {}: expected a single value after '='", assignment));
   auto value = value_from_node(*table.get("v"), spec->kind);
-  if (!value)
-    throw InputError(fmt::format("--set {}: expected {} for {}", assignment, to_string(spec->kind), path));
+  if (!value) throw InputError(fmt::format("--set {}: expected {} for {}", assignment, to_string(spec->kind), path));
   values.set(path, std::move(*value), "--set");
 }
 
@@ -426,7 +444,8 @@ std::string schema_markdown(const Schema& schema) {
       for (const auto& c : k.choices) allowed += fmt::format("{}`{}`", allowed.empty() ? "" : ", ", c);
     } else if (k.kind == Kind::Real || k.kind == Kind::Integer || k.kind == Kind::RealArray) {
       allowed = k.range.describe(k.kind == Kind::Integer);
-      if (k.kind == Kind::RealArray && k.array_length > 0) allowed = fmt::format("{} numbers, each {}", k.array_length, allowed);
+      if (k.kind == Kind::RealArray && k.array_length > 0)
+        allowed = fmt::format("{} numbers, each {}", k.array_length, allowed);
     }
     const std::string default_text = k.default_value ? fmt::format("`{}`", to_toml(*k.default_value)) : "(none)";
     out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", display_key(k.path), to_string(k.kind), default_text,

@@ -32,9 +32,12 @@ std::size_t value_size(ValueType type) { return type == ValueType::float32 ? 4 :
 
 const char* vtk_type_name(ValueType type) {
   switch (type) {
-    case ValueType::float32: return "Float32";
-    case ValueType::float64: return "Float64";
-    case ValueType::int64: return "Int64";
+    case ValueType::float32:
+      return "Float32";
+    case ValueType::float64:
+      return "Float64";
+    case ValueType::int64:
+      return "Int64";
   }
   return "";
 }
@@ -50,9 +53,15 @@ class ValueStream {
 
   void put(double value) {
     switch (type_) {
-      case ValueType::float32: append(static_cast<float>(value)); break;
-      case ValueType::float64: append(value); break;
-      case ValueType::int64: append(static_cast<std::int64_t>(value)); break;
+      case ValueType::float32:
+        append(static_cast<float>(value));
+        break;
+      case ValueType::float64:
+        append(value);
+        break;
+      case ValueType::int64:
+        append(static_cast<std::int64_t>(value));
+        break;
     }
   }
   void put_index(std::int64_t value) {
@@ -110,10 +119,13 @@ std::vector<std::uint64_t> appended_offsets(const std::vector<const AppendedArra
   return offsets;
 }
 
-std::string triple(const Eigen::Vector3d& v) { return fmt::format("{} {} {}", vtk_number(v(0)), vtk_number(v(1)), vtk_number(v(2))); }
+std::string triple(const Eigen::Vector3d& v) {
+  return fmt::format("{} {} {}", vtk_number(v(0)), vtk_number(v(1)), vtk_number(v(2)));
+}
 
 std::string data_array_tag(const AppendedArray& array, std::uint64_t offset, bool field_data) {
-  std::string tag = fmt::format(R"(<DataArray type="{}" Name="{}")", vtk_type_name(array.type), xml_escaped(array.name));
+  std::string tag =
+      fmt::format(R"(<DataArray type="{}" Name="{}")", vtk_type_name(array.type), xml_escaped(array.name));
   if (array.components != 1) tag += fmt::format(R"( NumberOfComponents="{}")", array.components);
   if (field_data) tag += fmt::format(R"( NumberOfTuples="{}")", array.tuples);
   tag += fmt::format(R"( format="appended" offset="{}"/>)", offset);
@@ -152,8 +164,8 @@ class VtkFileWriter {
     values.flush();
     const std::size_t expected = array.tuples * static_cast<std::size_t>(array.components);
     if (values.values_written() != expected)
-      throw std::logic_error(fmt::format("VTK array {}: wrote {} values, declared {}", array.name,
-                                         values.values_written(), expected));
+      throw std::logic_error(
+          fmt::format("VTK array {}: wrote {} values, declared {}", array.name, values.values_written(), expected));
   }
 
   std::vector<const AppendedArray*> arrays_;
@@ -161,8 +173,9 @@ class VtkFileWriter {
 };
 
 std::string file_header(const char* type) {
-  return fmt::format("<?xml version=\"1.0\"?>\n<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n",
-                     type, vtk_byte_order());
+  return fmt::format(
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n", type,
+      vtk_byte_order());
 }
 
 std::optional<AppendedArray> time_array(const VtkOptions& options) {
@@ -205,8 +218,8 @@ void check_extra_fields(std::span<const ScalarPointField> extra, std::size_t cel
     if (!names.insert(field.name).second)
       throw std::invalid_argument("write_fluid_vti: field name used twice: " + field.name);
     if (field.values.size() != cells)
-      throw std::invalid_argument(fmt::format("write_fluid_vti: field {} has {} values for {} cells", field.name,
-                                              field.values.size(), cells));
+      throw std::invalid_argument(
+          fmt::format("write_fluid_vti: field {} has {} values for {} cells", field.name, field.values.size(), cells));
   }
 }
 
@@ -229,12 +242,12 @@ void write_fluid_vti(const fs::path& path, const lbm::Solver& fluid, const Field
   check_extra_fields(extra, cells);
 
   std::vector<AppendedArray> point_data;
-  point_data.push_back(vector_array("velocity", options.precision, cells, [&fluid] { return fluid.velocity_field(); },
-                                    scaling.velocity_scale_si()));
-  point_data.push_back(scalar_array("pressure", options.precision, cells, [&fluid] { return fluid.pressure_field(); },
-                                    scaling.pressure_scale_si()));
-  point_data.push_back(vector_array("vorticity", options.precision, cells, [&fluid] { return fluid.vorticity_field(); },
-                                    scaling.rate_scale_si()));
+  point_data.push_back(vector_array(
+      "velocity", options.precision, cells, [&fluid] { return fluid.velocity_field(); }, scaling.velocity_scale_si()));
+  point_data.push_back(scalar_array(
+      "pressure", options.precision, cells, [&fluid] { return fluid.pressure_field(); }, scaling.pressure_scale_si()));
+  point_data.push_back(vector_array(
+      "vorticity", options.precision, cells, [&fluid] { return fluid.vorticity_field(); }, scaling.rate_scale_si()));
   for (const ScalarPointField& field : extra)
     point_data.push_back({field.name, float_type(options.precision), 1, cells, [&field](ValueStream& s) {
                             for (const double value : field.values) s.put(value);
@@ -329,7 +342,8 @@ void write_surface_vtp(const fs::path& path, const body::TriangleMesh& surface_b
   xml += "      <PointData Vectors=\"velocity\">\n        " + writer.tag(velocity) + "\n      </PointData>\n";
   xml += "      <CellData>\n      </CellData>\n";
   xml += "      <Points>\n        " + writer.tag(points) + "\n      </Points>\n";
-  xml += "      <Polys>\n        " + writer.tag(connectivity) + "\n        " + writer.tag(offsets) + "\n      </Polys>\n";
+  xml +=
+      "      <Polys>\n        " + writer.tag(connectivity) + "\n        " + writer.tag(offsets) + "\n      </Polys>\n";
   xml += "    </Piece>\n  </PolyData>\n";
   writer.write(path, xml);
 }

@@ -91,8 +91,8 @@ std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const couplin
 
 /// Where the body is and how it moves (SI, inertial frame).
 struct BodySnapshot {
-  Eigen::Vector3d position_si = Eigen::Vector3d::Zero();  ///< centroid, m
-  Eigen::Matrix3d body_to_inertial = Eigen::Matrix3d::Identity();  ///< C_b^n: body-frame vector to inertial
+  Eigen::Vector3d position_si = Eigen::Vector3d::Zero();            ///< centroid, m
+  Eigen::Matrix3d body_to_inertial = Eigen::Matrix3d::Identity();   ///< C_b^n: body-frame vector to inertial
   Eigen::Vector3d velocity_si = Eigen::Vector3d::Zero();            ///< of the centroid, m/s
   Eigen::Vector3d angular_velocity_n_si = Eigen::Vector3d::Zero();  ///< inertial frame, rad/s
 };

@@ -16,12 +16,23 @@ std::string xml_escaped(const std::string& text) {
   std::string escaped;
   for (const char c : text) {
     switch (c) {
-      case '&': escaped += "&amp;"; break;
-      case '<': escaped += "&lt;"; break;
-      case '>': escaped += "&gt;"; break;
-      case '"': escaped += "&quot;"; break;
-      case '\'': escaped += "&apos;"; break;
-      default: escaped += c;
+      case '&':
+        escaped += "&amp;";
+        break;
+      case '<':
+        escaped += "&lt;";
+        break;
+      case '>':
+        escaped += "&gt;";
+        break;
+      case '"':
+        escaped += "&quot;";
+        break;
+      case '\'':
+        escaped += "&apos;";
+        break;
+      default:
+        escaped += c;
     }
   }
   return escaped;
@@ -48,8 +59,6 @@ std::string xml_unescaped(const std::string& text) {
 
 std::string vtk_number(double value) { return fmt::format("{}", value); }
 
-const char* vtk_byte_order() {
-  return std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
-}
+const char* vtk_byte_order() { return std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian"; }
 
 }  // namespace settle::io

@@ -68,9 +68,8 @@ class AaSolver final : public Solver {
         lists_(build_copy_lists<L>(layout_, face_kinds(config))),
         inflow_velocity_(config.inflow_velocity) {
     for (auto& component : force_) component = AlignedArray<Real>(cell_count());
-    rates_ = config.collision == CollisionKind::trt
-                 ? trt_rates(config.tau, config.magic)
-                 : RelaxationRates{1.0 / config.tau, 1.0 / config.tau};
+    rates_ = config.collision == CollisionKind::trt ? trt_rates(config.tau, config.magic)
+                                                    : RelaxationRates{1.0 / config.tau, 1.0 / config.tau};
     zero_fill();
   }
 
@@ -102,17 +101,15 @@ class AaSolver final : public Solver {
       for (int y = 0; y < ny; ++y) {
         for (int x = 0; x < nx; ++x) {
           const CellState state = field(x, y, z);
-          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z),
-                               total_force(2, x, y, z)};
+          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z), total_force(2, x, y, z)};
           // Stored momentum rho u - F/2, so that Guo's velocity (sum f c + F/2)/rho is u.
           const double rho = state.density;
-          const double u[3] = {state.velocity.x() - 0.5 * F[0] / rho,
-                               state.velocity.y() - 0.5 * F[1] / rho,
+          const double u[3] = {state.velocity.x() - 0.5 * F[0] / rho, state.velocity.y() - 0.5 * F[1] / rho,
                                state.velocity.z() - 0.5 * F[2] / rho};
           const std::size_t cell = layout_.index(x, y, z);
           for (int i = 0; i < Q; ++i) {
-            populations_[slot(i, cell)] = static_cast<Real>(
-                shifted_equilibrium<L>(i, rho - 1.0, rho, u[0], u[1], u[2]));
+            populations_[slot(i, cell)] =
+                static_cast<Real>(shifted_equilibrium<L>(i, rho - 1.0, rho, u[0], u[1], u[2]));
           }
         }
       }
@@ -174,7 +171,8 @@ class AaSolver final : public Solver {
       gather_shifted(d, g);
       const auto F = cell_force(d[0], d[1], d[2]);
       const Macroscopic<L> m = macroscopic<L>(g, F.data());
-      for (int i = 0; i < Q; ++i) non_equilibrium[i] = g[i] - shifted_equilibrium<L>(i, m.drho, m.rho, m.ux, m.uy, m.uz);
+      for (int i = 0; i < Q; ++i)
+        non_equilibrium[i] = g[i] - shifted_equilibrium<L>(i, m.drho, m.rho, m.ux, m.uy, m.uz);
     }
     double f[Q];
     for (int i = 0; i < Q; ++i) {
@@ -255,8 +253,7 @@ class AaSolver final : public Solver {
   Eigen::Vector3d force(int x, int y, int z) const override {
     const auto c = resolve(x, y, z);
     const std::size_t n = linear_index(c[0], c[1], c[2]);
-    return {static_cast<double>(force_[0][n]), static_cast<double>(force_[1][n]),
-            static_cast<double>(force_[2][n])};
+    return {static_cast<double>(force_[0][n]), static_cast<double>(force_[1][n]), static_cast<double>(force_[2][n])};
   }
   void clear_forces() override {
     for (const std::size_t n : forced_cells_) {
@@ -312,9 +309,7 @@ class AaSolver final : public Solver {
 
  private:
   bool odd_parity() const { return (steps_ & 1) != 0; }
-  std::size_t slot(int q, std::size_t cell) const {
-    return static_cast<std::size_t>(q) * layout_.pop_stride + cell;
-  }
+  std::size_t slot(int q, std::size_t cell) const { return static_cast<std::size_t>(q) * layout_.pop_stride + cell; }
 
   void zero_fill() {
     Real* data = populations_.data();
@@ -340,8 +335,7 @@ class AaSolver final : public Solver {
   void run_kernel() {
     Real* const base = populations_.data();
     const int ny = config_.ny, nz = config_.nz, nx = config_.nx;
-    const double body[3] = {config_.body_force.x(), config_.body_force.y(),
-                            config_.body_force.z()};
+    const double body[3] = {config_.body_force.x(), config_.body_force.y(), config_.body_force.z()};
     const RelaxationRates rates = rates_;
     const Real* const fx = force_[0].data();
     const Real* const fy = force_[1].data();
@@ -365,16 +359,15 @@ class AaSolver final : public Solver {
           }
         }
         const std::size_t force_row =
-            static_cast<std::size_t>(nx) * (static_cast<std::size_t>(y) +
-                                            static_cast<std::size_t>(ny) * static_cast<std::size_t>(z));
+            static_cast<std::size_t>(nx) *
+            (static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z));
         collide_row(src, dst, fx + force_row, fy + force_row, fz + force_row, nx, body, rates);
       }
     }
   }
 
-  static void collide_row(Real* const (&src)[Q], Real* const (&dst)[Q],
-                          const Real* __restrict fx, const Real* __restrict fy,
-                          const Real* __restrict fz, int n, const double (&body)[3],
+  static void collide_row(Real* const (&src)[Q], Real* const (&dst)[Q], const Real* __restrict fx,
+                          const Real* __restrict fy, const Real* __restrict fz, int n, const double (&body)[3],
                           const RelaxationRates& rates) {
     // Local copies of the row pointers: loop-invariant scalars the vectoriser can use as
     // bases of unit-stride accesses (through the reference it reloads them per element).
@@ -416,16 +409,17 @@ class AaSolver final : public Solver {
     for (const ShiftedCopyEntry& e : shifted) {
       double drho = 0.0, j[3] = {0.0, 0.0, 0.0};
       for (int q = 0; q < Q; ++q) {
-        const double g = static_cast<double>(
-            Odd ? data[slot(q, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.cell) + layout_.offset(L::set.c[q])))]
-                : data[slot(opposite(q), e.cell)]);
+        const double g =
+            static_cast<double>(Odd ? data[slot(q, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.cell) +
+                                                                            layout_.offset(L::set.c[q])))]
+                                    : data[slot(opposite(q), e.cell)]);
         drho += g;
         for (int a = 0; a < 3; ++a) j[a] += L::set.c[q][a] * g;
       }
       const double rho = 1.0 + drho;
       if (e.equilibrium_dir >= 0) {
-        data[e.dst] = static_cast<Real>(
-            shifted_equilibrium<L>(e.equilibrium_dir, 0.0, 1.0, j[0] / rho, j[1] / rho, j[2] / rho));
+        data[e.dst] =
+            static_cast<Real>(shifted_equilibrium<L>(e.equilibrium_dir, 0.0, 1.0, j[0] / rho, j[1] / rho, j[2] / rho));
         continue;
       }
       const double term = e.wall_term[0] * inflow_velocity_[0] + e.wall_term[1] * inflow_velocity_[1] +
@@ -441,9 +435,8 @@ class AaSolver final : public Solver {
     for (int a = 0; a < 3; ++a) {
       if (c[a] >= 0 && c[a] < extent[a]) continue;
       if (config_.boundaries[a] != Boundary::periodic) {
-        throw std::out_of_range("lbm cell query: coordinate " + std::to_string(c[a]) +
-                                " outside [0, " + std::to_string(extent[a]) + ") on axis " +
-                                std::to_string(a));
+        throw std::out_of_range("lbm cell query: coordinate " + std::to_string(c[a]) + " outside [0, " +
+                                std::to_string(extent[a]) + ") on axis " + std::to_string(a));
       }
       c[a] = ((c[a] % extent[a]) + extent[a]) % extent[a];
     }
@@ -467,8 +460,7 @@ class AaSolver final : public Solver {
 
   std::array<double, 3> cell_force(int x, int y, int z) const {
     const auto c = resolve(x, y, z);
-    return {total_force(0, c[0], c[1], c[2]), total_force(1, c[0], c[1], c[2]),
-            total_force(2, c[0], c[1], c[2])};
+    return {total_force(0, c[0], c[1], c[2]), total_force(1, c[0], c[1], c[2]), total_force(2, c[0], c[1], c[2])};
   }
 
   double total_force(int axis, int x, int y, int z) const {
@@ -488,8 +480,7 @@ class AaSolver final : public Solver {
           }
           double g[Q];
           gather_shifted({x, y, z}, g);
-          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z),
-                               total_force(2, x, y, z)};
+          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z), total_force(2, x, y, z)};
           visit(linear_index(x, y, z), macroscopic<L>(g, F));
         }
       }
@@ -516,9 +507,7 @@ class AaSolver final : public Solver {
     return n;
   }
 
-  bool solid_at(int x, int y, int z) const {
-    return !solid_flag_.empty() && solid_flag_[linear_index(x, y, z)] != 0;
-  }
+  bool solid_at(int x, int y, int z) const { return !solid_flag_.empty() && solid_flag_[linear_index(x, y, z)] != 0; }
 
   /// Interior cell x + d with periodic axes wrapped; false when it leaves a non-periodic axis.
   bool wrapped(const std::array<int, 3>& x, const std::array<int, 3>& d, std::array<int, 3>& out) const {
@@ -553,11 +542,14 @@ class AaSolver final : public Solver {
     const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
     std::vector<std::size_t> moved;
     for (const std::size_t n : solid_cells_) {
-      std::array<int, 3> c{static_cast<int>(n % static_cast<std::size_t>(extent[0])),
-                           static_cast<int>(n / static_cast<std::size_t>(extent[0]) % static_cast<std::size_t>(extent[1])),
-                           static_cast<int>(n / (static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1])))};
+      std::array<int, 3> c{
+          static_cast<int>(n % static_cast<std::size_t>(extent[0])),
+          static_cast<int>(n / static_cast<std::size_t>(extent[0]) % static_cast<std::size_t>(extent[1])),
+          static_cast<int>(n / (static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1])))};
       c[static_cast<std::size_t>(axis)] -= sign;
-      if (c[static_cast<std::size_t>(axis)] < 0 || c[static_cast<std::size_t>(axis)] >= extent[static_cast<std::size_t>(axis)]) continue;
+      if (c[static_cast<std::size_t>(axis)] < 0 ||
+          c[static_cast<std::size_t>(axis)] >= extent[static_cast<std::size_t>(axis)])
+        continue;
       moved.push_back(linear_index(c[0], c[1], c[2]));
     }
     std::sort(moved.begin(), moved.end());
@@ -584,7 +576,8 @@ class AaSolver final : public Solver {
       const std::size_t out_slot = Odd ? slot(o, l.fluid) : slot(i, l.solid);
       const double f_in = static_cast<double>(A[in_slot]);
       const double f_second = l.b != 0.0 ? static_cast<double>(Odd ? A[slot(i, l.fluid)] : A[slot(o, l.second)]) : 0.0;
-      const double f_opposite = l.c != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.behind)] : A[slot(i, l.fluid)]) : 0.0;
+      const double f_opposite =
+          l.c != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.behind)] : A[slot(i, l.fluid)]) : 0.0;
       const Real back = static_cast<Real>(l.a * f_in + l.b * f_second + l.c * f_opposite + l.wall);
       A[out_slot] = back;
       // Shifted storage holds f - w: the momentum needs f itself.
@@ -612,9 +605,16 @@ class AaSolver final : public Solver {
   }
 
   StateLayout state_layout() const {
-    return {config_.nx,   config_.ny, config_.nz,  Q,
-            static_cast<std::uint32_t>(sizeof(Real)), layout_.x_begin, layout_.sx, layout_.sxy,
-            layout_.pop_stride, populations_.size()};
+    return {config_.nx,
+            config_.ny,
+            config_.nz,
+            Q,
+            static_cast<std::uint32_t>(sizeof(Real)),
+            layout_.x_begin,
+            layout_.sx,
+            layout_.sxy,
+            layout_.pop_stride,
+            populations_.size()};
   }
 
   SolverConfig config_;
@@ -642,8 +642,9 @@ template <Lattice L, class Collision, class Real>
 void AaSolver<L, Collision, Real>::import_state(const FluidState& state) {
   // Everything is checked before anything is written, so a refused state leaves the solver as it was.
   if (!(state.layout == state_layout())) {
-    throw std::invalid_argument("import_state: the state was saved from a solver with another grid, lattice, "
-                                "precision or memory layout");
+    throw std::invalid_argument(
+        "import_state: the state was saved from a solver with another grid, lattice, "
+        "precision or memory layout");
   }
   if (state.populations.size() != populations_.size() * sizeof(Real)) {
     throw std::invalid_argument("import_state: population buffer of " + std::to_string(state.populations.size()) +
@@ -733,8 +734,8 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
   if (solid_at(x[0], x[1], x[2]) || !wrapped(x, c, wall_cell) || !solid_at(wall_cell[0], wall_cell[1], wall_cell[2])) {
     throw std::invalid_argument("set_obstacle: a link must lead from a fluid cell to a solid one");
   }
-  const bool has_second = wrapped(x, {-c[0], -c[1], -c[2]}, second_cell) &&
-                          !solid_at(second_cell[0], second_cell[1], second_cell[2]);
+  const bool has_second =
+      wrapped(x, {-c[0], -c[1], -c[2]}, second_cell) && !solid_at(second_cell[0], second_cell[1], second_cell[2]);
   PreparedLink p;
   p.fluid = layout_.index(x[0], x[1], x[2]);
   p.solid = layout_.index(wall_cell[0], wall_cell[1], wall_cell[2]);
@@ -743,8 +744,8 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
   p.dir = link.dir;
   p.wall_velocity = link.wall_velocity;
   // Ladd's moving-wall term -2 w_i rho_0 c_i.u_w / cs^2 at rho_0 = 1, scaled like f*_i(x).
-  const double moving = -6.0 * L::set.w[link.dir] * (c[0] * link.wall_velocity[0] + c[1] * link.wall_velocity[1] +
-                                                     c[2] * link.wall_velocity[2]);
+  const double moving = -6.0 * L::set.w[link.dir] *
+                        (c[0] * link.wall_velocity[0] + c[1] * link.wall_velocity[1] + c[2] * link.wall_velocity[2]);
   const double q = link.q;
   if (rule == WallRule::halfway || (q < 0.5 && !has_second)) {
     // Without the second node the q < 1/2 interpolation has nothing to lean on: half-way

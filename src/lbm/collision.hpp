@@ -62,14 +62,12 @@ SETTLE_LBM_INLINE Macroscopic<L, T> macroscopic(const T* g, const T* F) {
   }
   const T rho = T(1.0) + drho;
   const T inv_rho = T(1.0) / rho;
-  return {drho, rho, (jx + T(0.5) * F[0]) * inv_rho, (jy + T(0.5) * F[1]) * inv_rho,
-          (jz + T(0.5) * F[2]) * inv_rho};
+  return {drho, rho, (jx + T(0.5) * F[0]) * inv_rho, (jy + T(0.5) * F[1]) * inv_rho, (jz + T(0.5) * F[2]) * inv_rho};
 }
 
 /// Shifted second-order equilibrium g_eq_i = f_eq_i - w_i.
 template <Lattice L>
-SETTLE_LBM_INLINE double shifted_equilibrium(int i, double drho, double rho, double ux,
-                                             double uy, double uz) {
+SETTLE_LBM_INLINE double shifted_equilibrium(int i, double drho, double rho, double ux, double uy, double uz) {
   const auto& c = L::set.c[i];
   const double cu = c[0] * ux + c[1] * uy + c[2] * uz;
   const double usq = ux * ux + uy * uy + uz * uz;
@@ -279,14 +277,13 @@ struct RecursiveRegularized {
       const T cx = T(c[0]), cy = T(c[1]), cz = T(c[2]);
       const T cx2 = cx * cx, cy2 = cy * cy, cz2 = cz * cz;
       const T second = T(4.5) * (cx2 * Axx + cy2 * Ayy + cz2 * Azz - cs2_trace +
-                                   T(2.0) * (cx * cy * Axy + cx * cz * Axz + cy * cz * Ayz));
-      const T third =
-          k_plus * (cy * (cx2 + cz2 - T(2.0) * T(cs2)) * (Bxxy + Byzz) +
-                    cx * (cz2 + cy2 - T(2.0) * T(cs2)) * (Bxzz + Bxyy) +
-                    cz * (cy2 + cx2 - T(2.0) * T(cs2)) * (Byyz + Bxxz)) +
-          k_minus * (cy * (cx2 - cz2) * (Bxxy - Byzz) + cx * (cz2 - cy2) * (Bxzz - Bxyy) +
-                     cz * (cy2 - cx2) * (Byyz - Bxxz)) +
-          k_xyz * cx * cy * cz * Bxyz;
+                                 T(2.0) * (cx * cy * Axy + cx * cz * Axz + cy * cz * Ayz));
+      const T third = k_plus * (cy * (cx2 + cz2 - T(2.0) * T(cs2)) * (Bxxy + Byzz) +
+                                cx * (cz2 + cy2 - T(2.0) * T(cs2)) * (Bxzz + Bxyy) +
+                                cz * (cy2 + cx2 - T(2.0) * T(cs2)) * (Byyz + Bxxz)) +
+                      k_minus * (cy * (cx2 - cz2) * (Bxxy - Byzz) + cx * (cz2 - cy2) * (Bxzz - Bxyy) +
+                                 cz * (cy2 - cx2) * (Byyz - Bxxz)) +
+                      k_xyz * cx * cy * cz * Bxyz;
       const T cu = cx * ux + cy * uy + cz * uz;
       const T cF = cx * F[0] + cy * F[1] + cz * F[2];
       const T source = w * (T(3.0) * (cF - uF) + T(9.0) * cu * cF);

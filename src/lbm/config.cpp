@@ -24,13 +24,14 @@ void validate_open_faces(const SolverConfig& config) {
     }
     const std::string name = to_string(f);
     if (open.kind != Boundary::velocity && open.kind != Boundary::outflow) {
-      throw InputError(fmt::format("lbm.open_faces: face {} must be velocity or outflow, got {}", name,
-                                   to_string(open.kind)));
+      throw InputError(
+          fmt::format("lbm.open_faces: face {} must be velocity or outflow, got {}", name, to_string(open.kind)));
     }
     if (config.boundaries[static_cast<std::size_t>(f.axis)] == Boundary::periodic) {
-      throw InputError(fmt::format("lbm.open_faces: face {} lies on a periodic axis; an inlet or outlet needs a "
-                                   "non-periodic axis",
-                                   name));
+      throw InputError(
+          fmt::format("lbm.open_faces: face {} lies on a periodic axis; an inlet or outlet needs a "
+                      "non-periodic axis",
+                      name));
     }
     if (std::find(seen.begin(), seen.end(), f) != seen.end()) {
       throw InputError(fmt::format("lbm.open_faces: face {} is given twice", name));
@@ -74,9 +75,7 @@ FaceKinds face_kinds(const SolverConfig& config) {
   return kinds;
 }
 
-std::string to_string(const Face& face) {
-  return fmt::format("{}{}", "xyz"[face.axis], face.side == 0 ? '-' : '+');
-}
+std::string to_string(const Face& face) { return fmt::format("{}{}", "xyz"[face.axis], face.side == 0 ? '-' : '+'); }
 
 Face parse_face(const std::string& name, const std::string& what) {
   for (int axis = 0; axis < 3; ++axis) {
@@ -88,15 +87,16 @@ Face parse_face(const std::string& name, const std::string& what) {
   throw InputError(fmt::format("{}: must be one of x-, x+, y-, y+, z-, z+, got '{}'", what, name));
 }
 
-std::string to_string(LatticeKind kind) {
-  return kind == LatticeKind::D3Q19 ? "D3Q19" : "D3Q27";
-}
+std::string to_string(LatticeKind kind) { return kind == LatticeKind::D3Q19 ? "D3Q19" : "D3Q27"; }
 
 std::string to_string(CollisionKind kind) {
   switch (kind) {
-    case CollisionKind::bgk: return "bgk";
-    case CollisionKind::trt: return "trt";
-    case CollisionKind::recursive_regularized: return "rr";
+    case CollisionKind::bgk:
+      return "bgk";
+    case CollisionKind::trt:
+      return "trt";
+    case CollisionKind::recursive_regularized:
+      return "rr";
   }
   return "?";
 }
@@ -105,11 +105,16 @@ std::string to_string(Precision kind) { return kind == Precision::float32 ? "flo
 
 std::string to_string(Boundary kind) {
   switch (kind) {
-    case Boundary::periodic: return "periodic";
-    case Boundary::no_slip: return "no-slip";
-    case Boundary::free_slip: return "free-slip";
-    case Boundary::velocity: return "velocity";
-    case Boundary::outflow: return "outflow";
+    case Boundary::periodic:
+      return "periodic";
+    case Boundary::no_slip:
+      return "no-slip";
+    case Boundary::free_slip:
+      return "free-slip";
+    case Boundary::velocity:
+      return "velocity";
+    case Boundary::outflow:
+      return "outflow";
   }
   return "?";
 }
@@ -127,8 +132,7 @@ CollisionKind parse_collision(const std::string& name, const std::string& what) 
   if (name == "recursive_regularized" || name == "rr" || name == "recursive-regularized") {
     return CollisionKind::recursive_regularized;
   }
-  throw InputError(fmt::format("{}: must be bgk, trt or recursive_regularized (rr), got '{}'",
-                               what, name));
+  throw InputError(fmt::format("{}: must be bgk, trt or recursive_regularized (rr), got '{}'", what, name));
 }
 
 Precision parse_precision(const std::string& name, const std::string& what) {
@@ -141,8 +145,7 @@ Boundary parse_boundary(const std::string& name, const std::string& what) {
   if (name == "periodic") return Boundary::periodic;
   if (name == "no-slip") return Boundary::no_slip;
   if (name == "free-slip") return Boundary::free_slip;
-  throw InputError(
-      fmt::format("{}: must be periodic, no-slip or free-slip, got '{}'", what, name));
+  throw InputError(fmt::format("{}: must be periodic, no-slip or free-slip, got '{}'", what, name));
 }
 
 }  // namespace settle::lbm

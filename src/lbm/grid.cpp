@@ -6,9 +6,7 @@ namespace {
 constexpr std::size_t kLineBytes = 64;
 constexpr std::size_t kPageBytes = 4096;
 
-std::size_t round_up(std::size_t value, std::size_t multiple) {
-  return (value + multiple - 1) / multiple * multiple;
-}
+std::size_t round_up(std::size_t value, std::size_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 }  // namespace
 
 GridLayout make_layout(int nx, int ny, int nz, std::size_t element_bytes, int q_count) {
@@ -25,8 +23,7 @@ GridLayout make_layout(int nx, int ny, int nz, std::size_t element_bytes, int q_
   layout.sxy = layout.sx * static_cast<std::size_t>(ny + 2);
   // The last row's ghost x = nx lies x_begin past the last plane.
   layout.padded_cells = layout.sxy * static_cast<std::size_t>(nz + 2) + layout.x_begin;
-  const std::size_t stagger_bytes =
-      kPageBytes / static_cast<std::size_t>(q_count) / kLineBytes * kLineBytes;
+  const std::size_t stagger_bytes = kPageBytes / static_cast<std::size_t>(q_count) / kLineBytes * kLineBytes;
   const std::size_t array_bytes = round_up(layout.padded_cells * element_bytes, kPageBytes);
   layout.pop_stride = (array_bytes + stagger_bytes) / element_bytes;
   return layout;

@@ -23,9 +23,9 @@ namespace settle::lbm {
 
 struct GridLayout {
   int nx = 0, ny = 0, nz = 0;
-  std::size_t x_begin = 0;     ///< element offset of interior x = 0 within a padded row
-  std::size_t sx = 0;          ///< row stride (elements)
-  std::size_t sxy = 0;         ///< plane stride (elements)
+  std::size_t x_begin = 0;  ///< element offset of interior x = 0 within a padded row
+  std::size_t sx = 0;       ///< row stride (elements)
+  std::size_t sxy = 0;      ///< plane stride (elements)
   std::size_t padded_cells = 0;
   std::size_t pop_stride = 0;  ///< elements from one population array to the next
 
@@ -176,7 +176,8 @@ CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
           const auto& cj = L::set.c[src.link.dir];
           const std::array<int, 3> src_ghost{src.link.cell[0] + cj[0], src.link.cell[1] + cj[1],
                                              src.link.cell[2] + cj[2]};
-          const std::size_t fill_dst = slot(opposite(i), upstream), fill_src = slot(opposite(src.link.dir), src.link.cell);
+          const std::size_t fill_dst = slot(opposite(i), upstream),
+                            fill_src = slot(opposite(src.link.dir), src.link.cell);
           const std::size_t fold_dst = slot(i, x), fold_src = slot(src.link.dir, src_ghost);
           if (src.shifted) {
             const auto& m = src.moment_cell;
@@ -198,9 +199,9 @@ CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
 /// The lists for walls of one kind per pair of faces (no open faces).
 template <Lattice L>
 CopyLists build_copy_lists(const GridLayout& layout, const std::array<Boundary, 3>& boundaries) {
-  return build_copy_lists<L>(layout, FaceKinds{{{boundaries[0], boundaries[0]},
-                                                {boundaries[1], boundaries[1]},
-                                                {boundaries[2], boundaries[2]}}});
+  return build_copy_lists<L>(
+      layout,
+      FaceKinds{{{boundaries[0], boundaries[0]}, {boundaries[1], boundaries[1]}, {boundaries[2], boundaries[2]}}});
 }
 
 }  // namespace settle::lbm

@@ -26,18 +26,17 @@ namespace detail {
 
 // Face, edge and corner neighbours in the pair order described at the top of the file.
 inline constexpr std::array<std::array<int, 3>, 27> kVelocities27 = {{
-    {0, 0, 0},                                                                      // rest
-    {1, 0, 0},   {-1, 0, 0},  {0, 1, 0},   {0, -1, 0},  {0, 0, 1},  {0, 0, -1},     // faces
-    {1, 1, 0},   {-1, -1, 0}, {1, -1, 0},  {-1, 1, 0},                              // xy edges
-    {1, 0, 1},   {-1, 0, -1}, {1, 0, -1},  {-1, 0, 1},                              // xz edges
-    {0, 1, 1},   {0, -1, -1}, {0, 1, -1},  {0, -1, 1},                              // yz edges
-    {1, 1, 1},   {-1, -1, -1}, {1, 1, -1}, {-1, -1, 1},                             // corners
-    {1, -1, 1},  {-1, 1, -1}, {-1, 1, 1},  {1, -1, -1},
+    {0, 0, 0},                                                                 // rest
+    {1, 0, 0},  {-1, 0, 0},   {0, 1, 0},  {0, -1, 0},  {0, 0, 1}, {0, 0, -1},  // faces
+    {1, 1, 0},  {-1, -1, 0},  {1, -1, 0}, {-1, 1, 0},                          // xy edges
+    {1, 0, 1},  {-1, 0, -1},  {1, 0, -1}, {-1, 0, 1},                          // xz edges
+    {0, 1, 1},  {0, -1, -1},  {0, 1, -1}, {0, -1, 1},                          // yz edges
+    {1, 1, 1},  {-1, -1, -1}, {1, 1, -1}, {-1, -1, 1},                         // corners
+    {1, -1, 1}, {-1, 1, -1},  {-1, 1, 1}, {1, -1, -1},
 }};
 
 template <int Q>
-constexpr VelocitySet<Q> make_velocity_set(double w_rest, double w_face, double w_edge,
-                                           double w_corner) {
+constexpr VelocitySet<Q> make_velocity_set(double w_rest, double w_face, double w_edge, double w_corner) {
   VelocitySet<Q> set{};
   for (int i = 0; i < Q; ++i) {
     set.c[i] = kVelocities27[i];
@@ -53,16 +52,14 @@ constexpr VelocitySet<Q> make_velocity_set(double w_rest, double w_face, double 
 struct D3Q19 {
   static constexpr int Q = 19;
   static constexpr const char* name = "D3Q19";
-  static constexpr VelocitySet<19> set = detail::make_velocity_set<19>(1.0 / 3.0, 1.0 / 18.0,
-                                                                       1.0 / 36.0, 0.0);
+  static constexpr VelocitySet<19> set = detail::make_velocity_set<19>(1.0 / 3.0, 1.0 / 18.0, 1.0 / 36.0, 0.0);
 };
 
 /// D3Q27: rest (8/27), 6 faces (2/27), 12 edges (1/54), 8 corners (1/216).
 struct D3Q27 {
   static constexpr int Q = 27;
   static constexpr const char* name = "D3Q27";
-  static constexpr VelocitySet<27> set = detail::make_velocity_set<27>(
-      8.0 / 27.0, 2.0 / 27.0, 1.0 / 54.0, 1.0 / 216.0);
+  static constexpr VelocitySet<27> set = detail::make_velocity_set<27>(8.0 / 27.0, 2.0 / 27.0, 1.0 / 54.0, 1.0 / 216.0);
 };
 
 /// The lattice concept used by the kernels: a type with Q and a VelocitySet<Q> `set`.

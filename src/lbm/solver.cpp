@@ -17,8 +17,10 @@ std::unique_ptr<Solver> make_with_precision(const SolverConfig& config) {
 template <Lattice L>
 std::unique_ptr<Solver> make_with_collision(const SolverConfig& config) {
   switch (config.collision) {
-    case CollisionKind::bgk: return make_with_precision<L, Bgk>(config);
-    case CollisionKind::trt: return make_with_precision<L, Trt>(config);
+    case CollisionKind::bgk:
+      return make_with_precision<L, Bgk>(config);
+    case CollisionKind::trt:
+      return make_with_precision<L, Trt>(config);
     case CollisionKind::recursive_regularized:
       return make_with_precision<L, RecursiveRegularized>(config);
   }
@@ -26,8 +28,7 @@ std::unique_ptr<Solver> make_with_collision(const SolverConfig& config) {
 }
 
 /// d/d(axis) of `field` at cell (x, y, z) by second-order differences.
-double derivative(const Solver& solver, const std::vector<double>& field, int axis, int x, int y,
-                  int z) {
+double derivative(const Solver& solver, const std::vector<double>& field, int axis, int x, int y, int z) {
   const std::array<int, 3> extent{solver.nx(), solver.ny(), solver.nz()};
   const int n = extent[axis];
   if (n == 1) return 0.0;

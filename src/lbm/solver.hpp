@@ -120,8 +120,7 @@ class Solver {
   int ny() const { return config().ny; }
   int nz() const { return config().nz; }
   std::size_t cell_count() const {
-    return static_cast<std::size_t>(nx()) * static_cast<std::size_t>(ny()) *
-           static_cast<std::size_t>(nz());
+    return static_cast<std::size_t>(nx()) * static_cast<std::size_t>(ny()) * static_cast<std::size_t>(nz());
   }
   std::size_t linear_index(int x, int y, int z) const {
     return static_cast<std::size_t>(x) +

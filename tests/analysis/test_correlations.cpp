@@ -79,7 +79,8 @@ TEST(DragLaws, IsometricCubeMatchesTheWorkedValues) {
   // The worked values use the exact sphericity of a cube, pi^(1/3) 6^(2/3) / 6 = 0.805996 (the
   // table's "phi" is rounded to 3 decimals; with 0.806 itself Ganser's value at Re = 10 rounds
   // differently). Here it comes from settle's cuboid. Ganser's isometric form is d_n = d_v.
-  const double phi = body::compute_shape_factors(body::Cuboid(Eigen::Vector3d::Ones()), Eigen::Vector3d::UnitZ()).sphericity;
+  const double phi =
+      body::compute_shape_factors(body::Cuboid(Eigen::Vector3d::Ones()), Eigen::Vector3d::UnitZ()).sphericity;
   for (const json& row : check_values("cube_phi_0.806")) {
     const double re = row["Re"].get<double>();
     EXPECT_NEAR(phi, row["phi"].get<double>(), 0.5e-3);
@@ -112,7 +113,8 @@ TEST(DragLaws, HolzerSommerfeldOnAProlateSpheroidMatchesTheWorkedValues) {
 TEST(DragLaws, BagheriBonadonnaMatchesTheWorkedValues) {
   // Ellipsoids with axes L, I, S (volume ratio d_v^3 / (L I S) = 1), rho_p / rho_f = 2.5.
   for (const json& row : check_values("BagheriBonadonna_rho2.5")) {
-    const double l = row["L_I_S"][0].get<double>(), i = row["L_I_S"][1].get<double>(), s = row["L_I_S"][2].get<double>();
+    const double l = row["L_I_S"][0].get<double>(), i = row["L_I_S"][1].get<double>(),
+                 s = row["L_I_S"][2].get<double>();
     const BagheriBonadonnaFactors k = bagheri_bonadonna_factors(s / i, i / l, 1.0, 2.5);
     EXPECT_NEAR(k.stokes_correction, row["kS"].get<double>(), kFourDecimals);
     EXPECT_NEAR(k.newton_correction, row["kN"].get<double>(), kFourDecimals);
@@ -227,10 +229,11 @@ TEST(ForceBalance, ResidualOfTheSolvedStateIsRoundOff) {
   // <= 1e-13 leaves a margin of ~100.
   for (double diameter_scale : {1e-3, 1.0, 30.0}) {
     const body::Ellipsoid shape = body::Ellipsoid::spheroid(2e-3 * diameter_scale, 0.4);
-    const ParticleDescriptors particle = describe_particle(shape, 1200.0, Orientation::broadside, Eigen::Vector3d::UnitZ());
+    const ParticleDescriptors particle =
+        describe_particle(shape, 1200.0, Orientation::broadside, Eigen::Vector3d::UnitZ());
     const SettlingConditions c{998.2, 1e-3, 9.81, 1200.0, particle.equivalent_diameter_si};
-    for (const LawPrediction& p : predict_terminal_velocities(particle, c.fluid_density_si, c.dynamic_viscosity_si,
-                                                              c.gravity_si)) {
+    for (const LawPrediction& p :
+         predict_terminal_velocities(particle, c.fluid_density_si, c.dynamic_viscosity_si, c.gravity_si)) {
       ASSERT_TRUE(p.state.solved) << p.law << " scale " << diameter_scale;
       EXPECT_LT(std::abs(force_balance_residual(p.state, c)), 1e-13) << p.law << " scale " << diameter_scale;
     }
@@ -246,8 +249,8 @@ TEST(ForceBalance, LightParticleRisesAtTheSameSpeedAsItsMirror) {
   light.density_si = 900.0;
   const auto down = by_law(predict_terminal_velocities(heavy, 1000.0, 1e-3, 9.81));
   const auto up = by_law(predict_terminal_velocities(light, 1000.0, 1e-3, 9.81));
-  for (const char* law : {"schiller_naumann", "clift_grace_weber", "haider_levenspiel", "ganser", "holzer_sommerfeld",
-                          "dietrich"}) {
+  for (const char* law :
+       {"schiller_naumann", "clift_grace_weber", "haider_levenspiel", "ganser", "holzer_sommerfeld", "dietrich"}) {
     EXPECT_EQ(down.at(law), up.at(law)) << law;
   }
 }
@@ -299,7 +302,8 @@ TEST(Descriptors, CaseSetUpUsesTheInitialAttitude) {
   setup.particle_density_si = 1500.0;
   setup.initial.attitude = attitude::Attitude::from_set1(0.0, 0.5, 0.0);
   const double a = 0.5e-3, c = 1.25e-3;
-  const double shadow = pi * a * std::sqrt(a * a * std::cos(0.5) * std::cos(0.5) + c * c * std::sin(0.5) * std::sin(0.5));
+  const double shadow =
+      pi * a * std::sqrt(a * a * std::cos(0.5) * std::cos(0.5) + c * c * std::sin(0.5) * std::sin(0.5));
   const double section = pi / 4 * std::pow(2.5e-9, 2.0 / 3.0);
   const LawPrediction g = find(predict_terminal_velocities(setup, Orientation::initial), "ganser");
   double dn_over_dv = 0.0;

@@ -104,9 +104,9 @@ TEST(Observables, TenCateSphereGroupsMatchThePublishedOnes) {
   const double d = setup["sphere_diameter"].get<double>(), rho_p = setup["sphere_density"].get<double>();
   const double rho_f = e1["fluid_density"].get<double>(), mu = e1["dynamic_viscosity"].get<double>();
   const double speed = e1["u_inf"].get<double>();
-  const ParticleProperties sphere = particle_properties(
-      std::make_shared<settle::body::Ellipsoid>(settle::body::Ellipsoid::sphere(d)), rho_p, rho_f, mu,
-      Eigen::Vector3d(0.0, 0.0, -setup["gravity"].get<double>()));
+  const ParticleProperties sphere =
+      particle_properties(std::make_shared<settle::body::Ellipsoid>(settle::body::Ellipsoid::sphere(d)), rho_p, rho_f,
+                          mu, Eigen::Vector3d(0.0, 0.0, -setup["gravity"].get<double>()));
   Motion motion;
   motion.velocity = [&](double) { return Eigen::Vector3d(0.0, 0.0, -speed); };
   const Analysis a = analyse(sample_motion(motion, 0.01, 3.0), sphere);
@@ -225,9 +225,7 @@ TEST(Observables, TumblingAxisRotationRateIsTheImposedOne) {
   const ParticleProperties disk = settle::test::disk_in_water();
   const double omega = 12.0, speed = 0.1;
   Motion motion;
-  motion.velocity = [&](double t) {
-    return Eigen::Vector3d(0.04 + 0.01 * std::cos(2.0 * omega * t), 0.0, -speed);
-  };
+  motion.velocity = [&](double t) { return Eigen::Vector3d(0.04 + 0.01 * std::cos(2.0 * omega * t), 0.0, -speed); };
   motion.attitude = [&](double t) { return rotation(omega * t, Eigen::Vector3d::UnitY()); };
   motion.omega_n = [&](double) { return Eigen::Vector3d(0.0, omega, 0.0); };
   const Analysis a = analyse(sample_motion(motion, 0.002, 3.0), disk);

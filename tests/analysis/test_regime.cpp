@@ -57,9 +57,7 @@ TEST(Regimes, ObliqueOscillatingSphere) {
   // Drift of 10% of the speed along x with a 3% oscillation along it: the lateral velocity never
   // reverses (Jenny et al. 2004's oscillating oblique regime).
   Motion m;
-  m.velocity = [](double t) {
-    return Eigen::Vector3d(0.01 + 0.003 * std::sin(2.0 * kPi * 4.0 * t), 0.0, -kSpeed);
-  };
+  m.velocity = [](double t) { return Eigen::Vector3d(0.01 + 0.003 * std::sin(2.0 * kPi * 4.0 * t), 0.0, -kSpeed); };
   const Analysis a = analyse_motion(m, settle::test::sphere_in_water(1e-3));
   EXPECT_EQ(a.regime.regime, Regime::oblique_oscillating) << a.regime.reason;
 }

@@ -66,8 +66,8 @@ TEST(TerminalState, ExponentialApproachIsDetectedWhenTheClosedFormSays) {
   TerminalCriteria criteria;
   criteria.response_time_si = tau;
   const double window = criteria.window_si();
-  const Signal s = sample([&](double t) { return Eigen::Vector3d(0.0, 0.0, -speed * (1.0 - std::exp(-t / tau))); },
-                          dt, 40.0 * tau);
+  const Signal s =
+      sample([&](double t) { return Eigen::Vector3d(0.0, 0.0, -speed * (1.0 - std::exp(-t / tau))); }, dt, 40.0 * tau);
   const TerminalState state = detect_terminal_state(s.t, s.u, criteria);
   ASSERT_TRUE(state.reached);
 
@@ -97,8 +97,8 @@ TEST(TerminalState, DenseOutputIsSummedOverEveryKthSampleWithTheSameResult) {
   TerminalCriteria criteria;
   criteria.response_time_si = tau;
   const double window = criteria.window_si();
-  const Signal s = sample([&](double t) { return Eigen::Vector3d(0.0, 0.0, -speed * (1.0 - std::exp(-t / tau))); },
-                          dt, 20.0 * tau);
+  const Signal s =
+      sample([&](double t) { return Eigen::Vector3d(0.0, 0.0, -speed * (1.0 - std::exp(-t / tau))); }, dt, 20.0 * tau);
   const TerminalState state = detect_terminal_state(s.t, s.u, criteria);
   ASSERT_TRUE(state.reached);
   const double expected = bisect(2.0 * window, 20.0 * tau,
@@ -141,8 +141,8 @@ TEST(TerminalState, IncrementalDetectorAgreesWithTheBatchOneAndLatches) {
   const double tau = 0.03, dt = 0.002;
   TerminalCriteria criteria;
   criteria.response_time_si = tau;
-  const Signal s = sample([&](double t) { return Eigen::Vector3d(0.001, 0.0, -0.1 * (1.0 - std::exp(-t / tau))); },
-                          dt, 2.0);
+  const Signal s =
+      sample([&](double t) { return Eigen::Vector3d(0.001, 0.0, -0.1 * (1.0 - std::exp(-t / tau))); }, dt, 2.0);
   const TerminalState batch = detect_terminal_state(s.t, s.u, criteria);
   ASSERT_TRUE(batch.reached);
   TerminalStateDetector detector(criteria);

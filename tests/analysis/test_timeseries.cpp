@@ -41,8 +41,9 @@ std::string message_of_series(const std::string& text) {
 // A two-row timeseries.csv with every column of the settling series plus Re (as settle run
 // writes it), the second row with the given set-1 angles.
 std::string settling_csv(double psi, double theta, double gamma) {
-  std::string text = "t,x,y,z,ux,uy,uz,wx,wy,wz,wbx,wby,wbz,psi,theta,gamma,psi_r,theta_r,gamma_r,euler_set,"
-                     "Fx,Fy,Fz,Tx,Ty,Tz,Re\n";
+  std::string text =
+      "t,x,y,z,ux,uy,uz,wx,wy,wz,wbx,wby,wbz,psi,theta,gamma,psi_r,theta_r,gamma_r,euler_set,"
+      "Fx,Fy,Fz,Tx,Ty,Tz,Re\n";
   text += "0,1,2,3,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,1,0,0,0,0,0,0,0\n";
   text += "0.5,1.1,2.2,3.3,0.01,0.02,-0.03,0.1,0.2,0.3,0.4,0.5,0.6," + std::to_string(psi) + "," +
           std::to_string(theta) + "," + std::to_string(gamma) + ",0,0,0,1,1e-6,2e-6,3e-6,4e-9,5e-9,6e-9,7.5\n";
@@ -94,8 +95,7 @@ TEST(TimeseriesCsv, BrokenFilesNameLineAndColumn) {
   EXPECT_NE(short_row.find("run/timeseries.csv:3"), std::string::npos) << short_row;
   EXPECT_NE(short_row.find("expected 2 values"), std::string::npos) << short_row;
   const std::string bad_number = message_of_parse("t,u\n0,1\n1,x2\n");
-  EXPECT_NE(bad_number.find("run/timeseries.csv:3: column 'u': not a number: 'x2'"), std::string::npos)
-      << bad_number;
+  EXPECT_NE(bad_number.find("run/timeseries.csv:3: column 'u': not a number: 'x2'"), std::string::npos) << bad_number;
   EXPECT_NE(message_of_parse("t,u\n0,\n").find("column 'u': not a number"), std::string::npos);
 }
 
@@ -122,10 +122,10 @@ TEST(SettlingSeries, BuiltFromTheColumnsOfSettleRun) {
   EXPECT_EQ(s.torque_si[1], Eigen::Vector3d(4e-9, 5e-9, 6e-9));
   // The attitude is the set-1 matrix of the angles as printed (std::to_string keeps 6 decimals,
   // so the reference is built from the same rounded text): equal to round-off.
-  const Eigen::Matrix3d expected = settle::attitude::Attitude::from_set1(std::stod(std::to_string(psi)),
-                                                                         std::stod(std::to_string(theta)),
-                                                                         std::stod(std::to_string(gamma)))
-                                       .body_to_inertial();
+  const Eigen::Matrix3d expected =
+      settle::attitude::Attitude::from_set1(std::stod(std::to_string(psi)), std::stod(std::to_string(theta)),
+                                            std::stod(std::to_string(gamma)))
+          .body_to_inertial();
   EXPECT_LT((s.body_to_inertial[1] - expected).norm(), 1e-15);
   EXPECT_LT((s.body_to_inertial[0] - Eigen::Matrix3d::Identity()).norm(), 1e-15);
 }

@@ -38,8 +38,8 @@ inline CliResult run_settle(const std::string& subcommand, const std::string& ar
   const char* binary = std::getenv("SETTLE_BINARY");
   if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
   const std::filesystem::path out = scratch("stdout"), err = scratch("stderr");
-  const std::string command = std::string(binary) + " " + subcommand + " " + arguments + " > " + out.string() +
-                              " 2> " + err.string();
+  const std::string command =
+      std::string(binary) + " " + subcommand + " " + arguments + " > " + out.string() + " 2> " + err.string();
   const int raw = std::system(command.c_str());
   CliResult result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_text(out), read_text(err)};
   std::filesystem::remove(out);
@@ -48,7 +48,8 @@ inline CliResult run_settle(const std::string& subcommand, const std::string& ar
 }
 
 /// Rows of a CSV file of numbers (timeseries.csv) after its header line, which goes to `header`.
-inline std::vector<std::vector<double>> read_rows(const std::filesystem::path& csv_path, std::vector<std::string>& header) {
+inline std::vector<std::vector<double>> read_rows(const std::filesystem::path& csv_path,
+                                                  std::vector<std::string>& header) {
   std::ifstream csv(csv_path);
   std::string line;
   std::getline(csv, line);

@@ -178,9 +178,8 @@ TEST_F(AnalyzeCli, BrokenRunDirectoriesAreRefusedNamingTheCulprit) {
   expect_refused(bad_json, bad_json.string(), "summary.json: not valid JSON");
 
   const fs::path towed = copy_of_run("analyze_towed");
-  write_text(towed / "case.resolved.toml",
-             replaced(read_text(towed / "case.resolved.toml"), "motion = \"free\"",
-                      "motion = \"towed\"\ntowing_velocity = [0.0, 0.0, -0.01]"));
+  write_text(towed / "case.resolved.toml", replaced(read_text(towed / "case.resolved.toml"), "motion = \"free\"",
+                                                    "motion = \"towed\"\ntowing_velocity = [0.0, 0.0, -0.01]"));
   expect_refused(towed, towed.string(), "particle.motion");
 
   expect_refused(no_uz, no_uz.string() + " --tolerance 2", "--tolerance: must be in (0, 1)");

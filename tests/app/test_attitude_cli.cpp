@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "cli_support.hpp"
 
@@ -22,8 +22,8 @@ namespace test_attitude_cli {
 namespace fs = std::filesystem;
 
 const std::vector<std::string> expected_columns{
-    "t",     "wx",      "wy",      "wz",  "psi", "theta", "gamma", "psi_r", "theta_r", "gamma_r", "euler_set",
-    "R11",   "R12",     "R13",     "R21", "R22", "R23",   "R31",   "R32",   "R33",     "energy",  "angular_momentum"};
+    "t",   "wx",  "wy",  "wz",  "psi", "theta", "gamma", "psi_r", "theta_r", "gamma_r", "euler_set",
+    "R11", "R12", "R13", "R21", "R22", "R23",   "R31",   "R32",   "R33",     "energy",  "angular_momentum"};
 
 using settle::test::read_text;
 using settle::test::scratch;
@@ -73,8 +73,9 @@ Eigen::Matrix3d set1_matrix(double psi, double theta, double gamma) {
 
 TEST(AttitudeCli, SphericalTopFollowsClosedForm) {
   // Isotropic inertia: omega_b is constant and C_b^n(t) = C_b^n(0) Rot(omega, |omega| t).
-  const Result r = run_settle("--inertia 2,2,2 --omega 0.1,-0.2,0.5 --euler 0.2,0.3,0.4 --dt 0.01 --t-end 10 "
-                              "--output-every 100");
+  const Result r = run_settle(
+      "--inertia 2,2,2 --omega 0.1,-0.2,0.5 --euler 0.2,0.3,0.4 --dt 0.01 --t-end 10 "
+      "--output-every 100");
   ASSERT_EQ(r.status, 0) << r.err;
   const Table table = parse_csv(r.out);
   EXPECT_EQ(table.header, expected_columns);
@@ -89,7 +90,8 @@ TEST(AttitudeCli, SphericalTopFollowsClosedForm) {
     EXPECT_LT((matrix_of(row) - exact).cwiseAbs().maxCoeff(), 1e-10) << "t = " << t;
     // The set-1 and set-2 columns describe the same matrix (conversion at rounding level;
     // 1e-13 allows for the CSV's decimal round trip).
-    EXPECT_LT((set1_matrix(row.at("psi"), row.at("theta"), row.at("gamma")) - matrix_of(row)).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_LT((set1_matrix(row.at("psi"), row.at("theta"), row.at("gamma")) - matrix_of(row)).cwiseAbs().maxCoeff(),
+              1e-13);
     const Eigen::Matrix3d set2 = (Eigen::AngleAxisd(row.at("psi_r"), Eigen::Vector3d::UnitZ()) *
                                   Eigen::AngleAxisd(row.at("gamma_r"), Eigen::Vector3d::UnitX()) *
                                   Eigen::AngleAxisd(row.at("theta_r"), Eigen::Vector3d::UnitY()))

@@ -65,7 +65,8 @@ TEST(BenchCli, EvenAndOddStepThroughputsAccountForTheRound) {
 TEST(BenchCli, CaseReportsEverySubstepWithinTheStepsWallTime) {
   const std::string towed = (std::filesystem::path(SETTLE_SOURCE_DIR) / "cases" / "towed_sphere.toml").string();
   const auto r = settle::test::run_settle(
-      "bench", "--case " + towed + " --set numerics.cells_per_diameter=6 --steps 4 --rounds 2 --probe-gib 0.0625 --threads 1");
+      "bench",
+      "--case " + towed + " --set numerics.cells_per_diameter=6 --steps 4 --rounds 2 --probe-gib 0.0625 --threads 1");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   const auto cells = j["cells"].get<std::vector<long>>();
@@ -79,8 +80,9 @@ TEST(BenchCli, CaseReportsEverySubstepWithinTheStepsWallTime) {
     if (names.back() == "fluid") fluid_share = s["share"].get<double>();
     if (names.back() == "outside_substeps") outside_share = s["share"].get<double>();
   }
-  const std::vector<std::string> expected = {"body_predictor", "markers", "forcing", "fluid", "hydrodynamic_force",
-                                             "body_corrector", "moving_window", "outside_substeps"};
+  const std::vector<std::string> expected = {
+      "body_predictor",     "markers",        "forcing",       "fluid",
+      "hydrodynamic_force", "body_corrector", "moving_window", "outside_substeps"};
   EXPECT_EQ(names, expected);
   EXPECT_GE(outside_share, -1e-9);
   EXPECT_NEAR(j["non_fluid_share"].get<double>(), 1.0 - fluid_share, 1e-12);

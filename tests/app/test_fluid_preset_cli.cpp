@@ -85,13 +85,14 @@ TEST(FluidPresetCli, RunWithWaterAt40CUsesAndRecordsThePresetsValues) {
 }
 
 TEST(FluidPresetCli, PredictSeesThePresetsFluid) {
-  const fs::path case_path =
-      write_case("preset_predict.toml", "preset = \"glycerol-water\"\ntemperature = 20.0\nglycerol_mass_fraction = 0.5");
+  const fs::path case_path = write_case(
+      "preset_predict.toml", "preset = \"glycerol-water\"\ntemperature = 20.0\nglycerol_mass_fraction = 0.5");
   const auto r = run_settle("predict", case_path.string());
   ASSERT_EQ(r.status, 0) << r.err;
   // predict prints rho_f with 6 and mu with 4 significant digits.
   const settle::io::FluidProperties mix = settle::io::glycerol_water_properties(0.5, 20.0);
-  const std::string fluid = fmt::format("fluid rho_f = {:.6g} kg/m^3, mu = {:.4g} Pa s", mix.density_si, mix.dynamic_viscosity_si);
+  const std::string fluid =
+      fmt::format("fluid rho_f = {:.6g} kg/m^3, mu = {:.4g} Pa s", mix.density_si, mix.dynamic_viscosity_si);
   EXPECT_NE(r.out.find(fluid), std::string::npos) << fluid << "\n" << r.out;
   fs::remove(case_path);
 }

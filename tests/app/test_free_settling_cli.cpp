@@ -115,7 +115,8 @@ TEST(FreeSettling, SphereReachesTheStandardDragCurveAndStaysSymmetric) {
 // same bytes (no tolerance: a difference means an order-dependent reduction crept in).
 TEST(FreeSettling, OneAndTwoThreadsWriteTheSameTimeSeries) {
   const fs::path one = scratch("threads_one"), two = scratch("threads_two");
-  const std::string common = " --set numerics.cells_per_diameter=6 --set run.end_time=0.02 --set run.output_interval=0 --quiet";
+  const std::string common =
+      " --set numerics.cells_per_diameter=6 --set run.end_time=0.02 --set run.output_interval=0 --quiet";
   const auto first = settle::test::run_settle("run", "-o " + one.string() + common + " --threads 1");
   ASSERT_EQ(first.status, 0) << first.err;
   const auto second = settle::test::run_settle("run", "-o " + two.string() + common + " --threads 2");

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -109,8 +109,7 @@ TEST_P(GoldenCase, FiveStepsReproduceTheStoredNumbers) {
   expect_vector_near(columns_of(last, header, "ux"), vector_of(expected.at("velocity")), name + " velocity (m/s)");
   expect_vector_near(columns_of(last, header, "wx"), vector_of(expected.at("angular_velocity")),
                      name + " angular velocity (rad/s, inertial)");
-  expect_vector_near(columns_of(last, header, "Fx"), vector_of(expected.at("force")),
-                     name + " hydrodynamic force (N)");
+  expect_vector_near(columns_of(last, header, "Fx"), vector_of(expected.at("force")), name + " hydrodynamic force (N)");
   fs::remove_all(dir);
 }
 

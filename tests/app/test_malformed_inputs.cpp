@@ -37,7 +37,8 @@ const char* kSphere = "shape = \"sphere\"\ndiameter = 1.0e-3\n";
 
 std::string valid_case(const std::string& shape_lines = kSphere) {
   return "[fluid]\ndensity = 998.2\ndynamic_viscosity = 1.0e-3\ngravity = [0.0, 0.0, -9.81]\n"
-         "[particle]\n" + shape_lines +
+         "[particle]\n" +
+         shape_lines +
          "density = 1100.0\nposition = [2.0e-3, 2.0e-3, 3.0e-3]\n"
          "[domain]\nsize = [4.0e-3, 4.0e-3, 6.0e-3]\n"
          "[numerics]\ncells_per_diameter = 8\n"
@@ -87,7 +88,8 @@ class MalformedInput : public ::testing::Test {
     RecordProperty("stderr", r.err);  // in --gtest_output=xml: the messages, for docs/errors.md
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("settle: error:"), std::string::npos) << r.err;
-    for (const std::string& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << "missing '" << f << "' in\n" << r.err;
+    for (const std::string& f : fragments)
+      EXPECT_NE(r.err.find(f), std::string::npos) << "missing '" << f << "' in\n" << r.err;
     EXPECT_EQ(listing(results_), before_) << "the results directory changed; stderr:\n" << r.err;
   }
   void expect_refused_set(const std::string& sets, std::initializer_list<std::string> fragments) {
@@ -148,14 +150,13 @@ TEST_F(MalformedInput, ArrayOfTheWrongLength) {
 }
 
 TEST_F(MalformedInput, ChoiceOutsideTheAllowedStrings) {
-  expect_refused_set("--set 'domain.walls.x=\"open\"'", {"[domain] walls.x", "\"open\"", "\"no-slip\", \"free-slip\", \"periodic\""});
+  expect_refused_set("--set 'domain.walls.x=\"open\"'",
+                     {"[domain] walls.x", "\"open\"", "\"no-slip\", \"free-slip\", \"periodic\""});
 }
 
 // ---- values out of range, not finite ------------------------------------------------------------
 
-TEST_F(MalformedInput, ZeroFluidDensity) {
-  expect_refused_set("--set fluid.density=0", {"[fluid] density", "> 0.0"});
-}
+TEST_F(MalformedInput, ZeroFluidDensity) { expect_refused_set("--set fluid.density=0", {"[fluid] density", "> 0.0"}); }
 
 TEST_F(MalformedInput, NegativeParticleDensity) {
   expect_refused_set("--set particle.density=-1100", {"[particle] density", "-1100"});
@@ -189,9 +190,7 @@ TEST_F(MalformedInput, RelaxationTimeAtTheStabilityLimit) {
 
 // ---- shapes -------------------------------------------------------------------------------------
 
-TEST_F(MalformedInput, ZeroDiameter) {
-  expect_refused_set("--set particle.diameter=0", {"[particle] diameter"});
-}
+TEST_F(MalformedInput, ZeroDiameter) { expect_refused_set("--set particle.diameter=0", {"[particle] diameter"}); }
 
 TEST_F(MalformedInput, NegativeSemiAxis) {
   expect_refused_text(valid_case("shape = \"ellipsoid\"\nsemi_axes = [1e-3, -0.5e-3, 0.5e-3]\n"),
@@ -213,8 +212,9 @@ TEST_F(MalformedInput, AspectRatioOfANeedle) {
 }
 
 TEST_F(MalformedInput, SuperellipsoidExponentBeyondConvex) {
-  expect_refused_text(valid_case("shape = \"superellipsoid\"\nsemi_axes = [5e-4, 5e-4, 5e-4]\nexponents = [3.0, 1.0]\n"),
-                      {"[particle] exponents", "in [0.1, 2.0]"});
+  expect_refused_text(
+      valid_case("shape = \"superellipsoid\"\nsemi_axes = [5e-4, 5e-4, 5e-4]\nexponents = [3.0, 1.0]\n"),
+      {"[particle] exponents", "in [0.1, 2.0]"});
 }
 
 TEST_F(MalformedInput, ShapeKeyMissing) {
@@ -234,7 +234,8 @@ std::string mesh_lines(const std::string& file) {
 }
 
 TEST_F(MalformedInput, MeshFileMissing) {
-  expect_refused_text(valid_case(mesh_lines("no_such_grain.stl")), {"particle.file", "no_such_grain.stl", "no such file"});
+  expect_refused_text(valid_case(mesh_lines("no_such_grain.stl")),
+                      {"particle.file", "no_such_grain.stl", "no such file"});
 }
 
 TEST_F(MalformedInput, MeshNotWatertight) {
@@ -264,7 +265,8 @@ TEST_F(MalformedInput, BuoyantParticleUnderAPeriodicTop) {
 }
 
 TEST_F(MalformedInput, HeavyParticleInAPeriodicColumn) {
-  expect_refused_set("--set 'domain.walls.z=\"periodic\"'", {"domain.walls.z", "heavier than the fluid", "sinks along -z"});
+  expect_refused_set("--set 'domain.walls.z=\"periodic\"'",
+                     {"domain.walls.z", "heavier than the fluid", "sinks along -z"});
 }
 
 TEST_F(MalformedInput, ParticleLargerThanTheDomain) {
@@ -272,7 +274,8 @@ TEST_F(MalformedInput, ParticleLargerThanTheDomain) {
 }
 
 TEST_F(MalformedInput, ParticleOverlapsTheBottomWall) {
-  expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 3e-4]'", {"particle.position", "overlaps the wall at z = 0"});
+  expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 3e-4]'",
+                     {"particle.position", "overlaps the wall at z = 0"});
 }
 
 TEST_F(MalformedInput, TiltedCuboidOverlapsAWallOnlyBecauseOfItsAttitude) {
@@ -317,9 +320,10 @@ TEST_F(MalformedInput, MillionCellsPerDiameter) {
 }
 
 TEST_F(MalformedInput, GridBeyondTwoBillionCells) {
-  expect_refused_set("--set numerics.cells_per_diameter=256 --set 'domain.size=[1.0, 1.0, 1.0]' "
-                     "--set 'particle.position=[0.5, 0.5, 0.5]'",
-                     {"numerics.cells_per_diameter", "cells", "GiB"});
+  expect_refused_set(
+      "--set numerics.cells_per_diameter=256 --set 'domain.size=[1.0, 1.0, 1.0]' "
+      "--set 'particle.position=[0.5, 0.5, 0.5]'",
+      {"numerics.cells_per_diameter", "cells", "GiB"});
 }
 
 TEST_F(MalformedInput, GridBeyondTheMemoryBudget) {
@@ -343,9 +347,10 @@ TEST_F(MalformedInput, FastTowedBodyUnderResolved) {
 }
 
 TEST_F(MalformedInput, FixedRelaxationTimeBreaksTheMachBound) {
-  expect_refused_set("--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.5]' "
-                     "--set numerics.tau=1.9",
-                     {"numerics.tau", "Mach"});
+  expect_refused_set(
+      "--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.5]' "
+      "--set numerics.tau=1.9",
+      {"numerics.tau", "Mach"});
 }
 
 TEST_F(MalformedInput, BodyForceOnAFreeParticle) {
@@ -357,13 +362,15 @@ TEST_F(MalformedInput, TowedWithoutVelocity) {
 }
 
 TEST_F(MalformedInput, ReleaseTimeOfATowedBody) {
-  expect_refused_set("--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.01]' "
-                     "--set particle.release_time=0.01",
-                     {"particle.release_time", "free"});
+  expect_refused_set(
+      "--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.01]' "
+      "--set particle.release_time=0.01",
+      {"particle.release_time", "free"});
 }
 
 TEST_F(MalformedInput, ReleaseAfterTheEndOfTheRun) {
-  expect_refused_set("--set run.end_time=0.1 --set particle.release_time=0.1", {"particle.release_time", "run.end_time"});
+  expect_refused_set("--set run.end_time=0.1 --set particle.release_time=0.1",
+                     {"particle.release_time", "run.end_time"});
 }
 
 TEST_F(MalformedInput, NegativeReleaseTime) {
@@ -411,16 +418,13 @@ TEST_F(MalformedInput, SetTwoValuesAtOnce) {
 
 // ---- flags and the output directory --------------------------------------------------------------
 
-TEST_F(MalformedInput, NegativeThreadCount) {
-  expect_refused_set("--threads -2", {"--threads"});
-}
+TEST_F(MalformedInput, NegativeThreadCount) { expect_refused_set("--threads -2", {"--threads"}); }
 
-TEST_F(MalformedInput, NegativeMemoryBudget) {
-  expect_refused_set("--max-memory -1", {"--max-memory"});
-}
+TEST_F(MalformedInput, NegativeMemoryBudget) { expect_refused_set("--max-memory -1", {"--max-memory"}); }
 
 TEST_F(MalformedInput, OutputPathIsAFile) {
-  const CliResult r = settle::test::run_settle("run", case_path().string() + " -o " + (results_ / "sentinel.txt").string());
+  const CliResult r =
+      settle::test::run_settle("run", case_path().string() + " -o " + (results_ / "sentinel.txt").string());
   expect_refused(r, {"-o", "sentinel.txt", "not a directory"});
 }
 
@@ -441,7 +445,8 @@ TEST_F(MalformedInput, OutputDirectoryNotWritable) {
 
 TEST_F(MalformedInput, ARefusedRunDoesNotCreateItsOutputDirectory) {
   const fs::path fresh = root_ / "fresh";
-  const CliResult r = settle::test::run_settle("run", case_path().string() + " --set fluid.density=-1 -o " + fresh.string());
+  const CliResult r =
+      settle::test::run_settle("run", case_path().string() + " --set fluid.density=-1 -o " + fresh.string());
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_FALSE(fs::exists(fresh));
 }

@@ -30,8 +30,8 @@ using settle::test::read_text;
 using settle::test::scratch;
 using Result = settle::test::CliResult;
 
-const std::array<const char*, 5> kFigures = {"velocity.png", "trajectory.png", "trajectory_3d.png",
-                                             "orientation.png", "forces.png"};
+const std::array<const char*, 5> kFigures = {"velocity.png", "trajectory.png", "trajectory_3d.png", "orientation.png",
+                                             "forces.png"};
 
 Result run_plot(const std::string& arguments) { return settle::test::run_settle("plot", arguments); }
 
@@ -49,8 +49,8 @@ bool matplotlib_available() {
   });
 }
 
-#define SKIP_WITHOUT_MATPLOTLIB()                                                                        \
-  if (!matplotlib_available())                                                                           \
+#define SKIP_WITHOUT_MATPLOTLIB() \
+  if (!matplotlib_available())    \
   GTEST_SKIP() << "no python3 importing matplotlib and numpy (Debian: apt-get install python3-matplotlib)"
 
 struct PngHeader {
@@ -175,8 +175,8 @@ fs::path write_reference_run(const std::string& name, const ReferenceSeries& ref
   for (const double t : times) {
     const double z = (interpolate(reference.trajectory, t) + 0.5) * kTenCateDiameter;
     const double uz = interpolate(reference.velocity, t);
-    csv << fmt::format("{:.17g},0.05,0.05,{:.17g},0,0,{:.17g},0,0,0,0,0,0,0,0,0,0,0,0,1,0,0,1e-3,0,0,0,1.5,0,0\n", t,
-                       z, uz);
+    csv << fmt::format("{:.17g},0.05,0.05,{:.17g},0,0,{:.17g},0,0,0,0,0,0,0,0,0,0,0,0,1,0,0,1e-3,0,0,0,1.5,0,0\n", t, z,
+                       uz);
   }
   std::ofstream(dir / "summary.json") << R"({"case": "synthetic", "motion": "free", "equivalent_diameter": 0.015,
   "terminal_vertical_velocity": 0.036, "reference": "tenCate2002_E1"})";
@@ -234,7 +234,7 @@ TEST(PlotCli, UnknownReferenceKeyExitsTwoNamingIt) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--reference: 'tenCate2002_E9'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("tenCate2002_E1"), std::string::npos) << r.err;  // the keys that do work
-  EXPECT_FALSE(fs::exists(run / "plots"));                             // refused before drawing
+  EXPECT_FALSE(fs::exists(run / "plots"));                              // refused before drawing
   fs::remove_all(run);
 }
 

@@ -18,8 +18,8 @@ namespace test_predict_cli {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using std::numbers::pi;
 using settle::test::scratch;
+using std::numbers::pi;
 
 struct Result : settle::test::CliResult {
   json parsed() const { return json::parse(out); }
@@ -27,7 +27,7 @@ struct Result : settle::test::CliResult {
 
 Result run_predict(const std::string& arguments) { return {settle::test::run_settle("predict", arguments)}; }
 
-const char* const kLaws[] = {"schiller_naumann", "clift_grace_weber", "haider_levenspiel", "ganser",
+const char* const kLaws[] = {"schiller_naumann",  "clift_grace_weber", "haider_levenspiel", "ganser",
                              "holzer_sommerfeld", "bagheri_bonadonna", "dietrich"};
 
 const json& law(const json& list, const std::string& name) {
@@ -40,8 +40,9 @@ const json& law(const json& list, const std::string& name) {
 double descriptor(const json& entry, const char* name) { return entry["descriptors"][name].get<double>(); }
 
 TEST(PredictCli, JsonListHasEveryLawWithTheContractKeys) {
-  const Result r = run_predict("--shape spheroid --diameter 1e-3 --aspect-ratio 2.5 --density 1050 "
-                               "--fluid-density 998.2 --viscosity 1e-3 --json");
+  const Result r = run_predict(
+      "--shape spheroid --diameter 1e-3 --aspect-ratio 2.5 --density 1050 "
+      "--fluid-density 998.2 --viscosity 1e-3 --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const json list = r.parsed();
   ASSERT_TRUE(list.is_array());
@@ -65,7 +66,8 @@ TEST(PredictCli, SmallSphereMeetsStokesAndTheForceBalance) {
   // 3.3e-4, so U/U_s = 1/(1 + delta) lies within 5e-4 of 1. Dietrich's fit starts at D* = 0.05
   // (here D* = 1.3e-4) and is only required to say so.
   const double d = 2e-6, rho_p = 2650.0, rho_f = 998.2, mu = 1e-3, g = 9.81;
-  const Result r = run_predict("--shape sphere --diameter 2e-6 --density 2650 --fluid-density 998.2 --viscosity 1e-3 --json");
+  const Result r =
+      run_predict("--shape sphere --diameter 2e-6 --density 2650 --fluid-density 998.2 --viscosity 1e-3 --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const double stokes = (rho_p - rho_f) * g * d * d / (18.0 * mu);
   const double archimedes = (rho_p - rho_f) * g * d * d * d * rho_f / (mu * mu);
@@ -85,8 +87,9 @@ TEST(PredictCli, SmallSphereMeetsStokesAndTheForceBalance) {
 }
 
 TEST(PredictCli, TableListsEveryLaw) {
-  const Result r = run_predict("--shape cylinder --diameter 2e-3 --length 0.5e-3 --density 2500 --fluid-density 998.2 "
-                               "--viscosity 1e-3");
+  const Result r = run_predict(
+      "--shape cylinder --diameter 2e-3 --length 0.5e-3 --density 2500 --fluid-density 998.2 "
+      "--viscosity 1e-3");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("U (m/s)"), std::string::npos);
   EXPECT_NE(r.out.find("in range"), std::string::npos);
@@ -103,8 +106,9 @@ TEST(PredictCli, CaseFileUsesItsFluidParticleAndInitialAttitude) {
                                       "[particle]\nshape = \"spheroid\"\ndiameter = 1.0e-3\naspect_ratio = 2.5\n"
                                       "density = 1050.0\neuler = [0.0, 0.5, 0.0]\n";
   const Result from_case = run_predict((dir / "case.toml").string() + " --orientation initial --json");
-  const Result from_flags = run_predict("--shape spheroid --diameter 1e-3 --aspect-ratio 2.5 --density 1050 "
-                                        "--fluid-density 998.2 --viscosity 1e-3 --orientation initial --euler 0,0.5,0 --json");
+  const Result from_flags = run_predict(
+      "--shape spheroid --diameter 1e-3 --aspect-ratio 2.5 --density 1050 "
+      "--fluid-density 998.2 --viscosity 1e-3 --orientation initial --euler 0,0.5,0 --json");
   fs::remove_all(dir);
   ASSERT_EQ(from_case.status, 0) << from_case.err;
   ASSERT_EQ(from_flags.status, 0) << from_flags.err;
@@ -166,7 +170,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--euler: only used with --orientation initial"},
         BadInput{"short_euler", kSphere + "--density 2650 --orientation initial --euler 0,1" + kWater, "",
                  "--euler: expected 3 comma-separated numbers"},
-        BadInput{"flags_and_case", "CASE --density 2000", kCaseSphere, "--density: cannot be combined with a case file"},
+        BadInput{"flags_and_case", "CASE --density 2000", kCaseSphere,
+                 "--density: cannot be combined with a case file"},
         BadInput{"case_neutral", "CASE", "[fluid]\ndensity = 1000.0\n\n" + kCaseSphere + "density = 1000.0\n",
                  "particle.density: must differ from fluid.density"},
         BadInput{"case_no_gravity", "CASE", "[fluid]\ngravity = [0.0, 0.0, 0.0]\n\n" + kCaseSphere,

@@ -50,8 +50,8 @@ void expect_run_directory(const fs::path& dir, bool coefficients) {
   for (const char* key : {"terminal_velocity", "terminal_vertical_velocity", "reynolds", "drag_coefficient", "galileo",
                           "regime", "cells", "dx", "dt", "tau", "steps", "wall_seconds", "mlups", "timing"})
     EXPECT_TRUE(summary.contains(key)) << key;
-  for (const char* step : {"body_predictor", "markers", "forcing", "fluid", "hydrodynamic_force", "body_corrector",
-                           "moving_window"})
+  for (const char* step :
+       {"body_predictor", "markers", "forcing", "fluid", "hydrodynamic_force", "body_corrector", "moving_window"})
     EXPECT_TRUE(summary["timing"].contains(step)) << step;
   if (coefficients) {
     EXPECT_TRUE(summary.contains("lift_coefficient"));
@@ -180,12 +180,13 @@ TEST(RunCli, ReferenceKeyIsCopiedIntoTheSummary) {
 // with its lowest point 3 cells above the floor, in a fixed window so that contact is on. The
 // stencil needs 1 cell (roma3), so only the contact start rule can refuse it: the spring reaches
 // 5 cells, and 2 W / k is about 1e-9 m (k = m pi^2 / (10 dt)^2), far below a cell.
-const char* kNearFloor = "--set domain.follow_particle=false --set particle.euler=[0,0,0] "
-                         "--set particle.position=[3.78e-3,3.78e-3,1.4725e-3] --set run.end_time=0.0025 --threads 1";
+const char* kNearFloor =
+    "--set domain.follow_particle=false --set particle.euler=[0,0,0] "
+    "--set particle.position=[3.78e-3,3.78e-3,1.4725e-3] --set run.end_time=0.0025 --threads 1";
 
 TEST(RunCli, ParticleInsideTheContactDistanceIsRefused) {
-  const Result r = run_settle("-o " + scratch("near_floor").string() + " " + kNearFloor +
-                              " --set contact.distance_cells=5");
+  const Result r =
+      run_settle("-o " + scratch("near_floor").string() + " " + kNearFloor + " --set contact.distance_cells=5");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("particle.position"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("contact.distance_cells"), std::string::npos) << r.err;
@@ -194,7 +195,9 @@ TEST(RunCli, ParticleInsideTheContactDistanceIsRefused) {
   const fs::path dir = scratch("near_floor_ok");
   EXPECT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor + " --set contact.distance_cells=2.5").status, 0);
   EXPECT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor +
-                       " --set contact.distance_cells=5 --set contact.enabled=false").status, 0);
+                       " --set contact.distance_cells=5 --set contact.enabled=false")
+                .status,
+            0);
   fs::remove_all(dir);
 }
 
@@ -246,7 +249,8 @@ TEST(RunCli, TimeseriesCarriesContactForceAndWallGap) {
 // of each kind, and both collections list six times. Counted exactly: the schedule is a closed rule.
 TEST(RunCli, VtkOutputOnItsOwnSchedule) {
   const fs::path dir = scratch("vtk");
-  const Result r = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --set run.vtk_interval=0.0005 "
+  const Result r = run_settle("-o " + dir.string() +
+                              " --set run.end_time=0.0025 --set run.vtk_interval=0.0005 "
                               "--threads 1");
   ASSERT_EQ(r.status, 0) << r.err;
   int fluid = 0, surface = 0;
@@ -261,7 +265,8 @@ TEST(RunCli, VtkOutputOnItsOwnSchedule) {
   const std::string fluid_pvd = read_text(dir / "vtk" / "fluid.pvd");
   const std::string surface_pvd = read_text(dir / "vtk" / "surface.pvd");
   std::size_t datasets = 0;
-  for (auto at = fluid_pvd.find("<DataSet"); at != std::string::npos; at = fluid_pvd.find("<DataSet", at + 1)) ++datasets;
+  for (auto at = fluid_pvd.find("<DataSet"); at != std::string::npos; at = fluid_pvd.find("<DataSet", at + 1))
+    ++datasets;
   EXPECT_EQ(datasets, 6u);
   EXPECT_NE(surface_pvd.find("surface_000005.vtp"), std::string::npos);
   EXPECT_NE(read_text(dir / "vtk" / "fluid_000000.vti").find("solid_fraction"), std::string::npos);

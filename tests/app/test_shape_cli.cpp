@@ -14,9 +14,9 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_support.hpp"
-#include <ostream>
 #include <nlohmann/json.hpp>
+#include <ostream>
+#include "cli_support.hpp"
 
 namespace test_shape_cli {
 
@@ -58,7 +58,8 @@ TEST(ShapeCli, SphereMatchesClosedFormsAndHasEveryContractKey) {
     EXPECT_NEAR(j["principal_moments"][i].get<double>(), moment, kClosedForm * moment);
     EXPECT_EQ(j["centroid"][i].get<double>(), 0.0);
   }
-  for (const char* key : {"sphericity", "crosswise_sphericity", "lengthwise_sphericity", "corey_shape_factor", "flatness", "elongation"}) {
+  for (const char* key : {"sphericity", "crosswise_sphericity", "lengthwise_sphericity", "corey_shape_factor",
+                          "flatness", "elongation"}) {
     EXPECT_NEAR(j[key].get<double>(), 1.0, kClosedForm) << key;
   }
   EXPECT_NEAR(j["projected_area_z"].get<double>(), pi * 1e-6, kClosedForm * pi * 1e-6);
@@ -101,8 +102,9 @@ TEST(ShapeCli, CaseFileParticleTable) {
   const fs::path dir = scratch("case");
   fs::create_directories(dir);
   fs::copy_file(data("tetrahedron_binary.stl"), dir / "grain.stl", fs::copy_options::overwrite_existing);
-  std::ofstream(dir / "case.toml") << "[fluid]\ndensity = 998.2\n\n[particle]\nshape = \"mesh\"\nfile = \"grain.stl\"\n"
-                                      "scale = 1e-3\ndensity = 2000\nposition = [0.02, 0.02, 0.1]\neuler = [0, 0.5, 0]\n";
+  std::ofstream(dir / "case.toml")
+      << "[fluid]\ndensity = 998.2\n\n[particle]\nshape = \"mesh\"\nfile = \"grain.stl\"\n"
+         "scale = 1e-3\ndensity = 2000\nposition = [0.02, 0.02, 0.1]\neuler = [0, 0.5, 0]\n";
   const Result r = run_shape((dir / "case.toml").string());
   ASSERT_EQ(r.status, 0) << r.err;
   // Legs 2, 3, 4 mm: V = 4e-9 m^3, centroid (0.5, 0.75, 1) mm; density from the case.
@@ -111,7 +113,8 @@ TEST(ShapeCli, CaseFileParticleTable) {
   EXPECT_NEAR(j["mass"].get<double>(), 8e-6, 1e-13 * 8e-6);
   EXPECT_NEAR(j["centroid"][1].get<double>(), 0.75e-3, 1e-13 * 1e-3);
   // --density overrides the case.
-  EXPECT_NEAR(run_shape((dir / "case.toml").string() + " --density 1000").parsed()["mass"].get<double>(), 4e-6, 1e-13 * 4e-6);
+  EXPECT_NEAR(run_shape((dir / "case.toml").string() + " --density 1000").parsed()["mass"].get<double>(), 4e-6,
+              1e-13 * 4e-6);
   fs::remove_all(dir);
 }
 
@@ -164,8 +167,8 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(ShapeCli, HelpDescribesTheFlags) {
   const Result r = run_shape("--help");
   EXPECT_EQ(r.status, 0);
-  for (const char* flag : {"--shape", "--diameter", "--aspect-ratio", "--semi-axes", "--length", "--size", "--exponents",
-                           "--mesh", "--scale", "--density", "--marker-spacing", "--flow-direction"}) {
+  for (const char* flag : {"--shape", "--diameter", "--aspect-ratio", "--semi-axes", "--length", "--size",
+                           "--exponents", "--mesh", "--scale", "--density", "--marker-spacing", "--flow-direction"}) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
   }
 }

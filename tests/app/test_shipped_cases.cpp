@@ -16,8 +16,8 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
 
@@ -34,9 +34,9 @@ fs::path cases_dir() { return fs::path(SETTLE_SOURCE_DIR) / "cases"; }
 
 // The cases docs/cases.md describes (ten Cate E1-E4, the non-spherical set, the STL grain); the
 // test below runs every *.toml in cases/, these must be among them.
-const std::vector<std::string> kDocumentedCases = {"tencate_E1",       "tencate_E2",      "tencate_E3", "tencate_E4",
-                                              "prolate_spheroid", "oblate_spheroid", "disk",       "cylinder",
-                                              "cube",             "grain"};
+const std::vector<std::string> kDocumentedCases = {
+    "tencate_E1",      "tencate_E2", "tencate_E3", "tencate_E4", "prolate_spheroid",
+    "oblate_spheroid", "disk",       "cylinder",   "cube",       "grain"};
 
 std::vector<std::string> shipped_case_names() {
   std::vector<std::string> names;
@@ -64,8 +64,8 @@ TEST_P(ShippedCase, RunsFiveStepsAtItsDefaultResolution) {
   const std::string file = (cases_dir() / (name + ".toml")).string();
   const fs::path probe = scratch(name + "_probe"), dir = scratch(name);
 
-  const auto first = settle::test::run_settle("run", file + " -o " + probe.string() +
-                                                         " --set run.end_time=1e-12 --threads 2");
+  const auto first =
+      settle::test::run_settle("run", file + " -o " + probe.string() + " --set run.end_time=1e-12 --threads 2");
   ASSERT_EQ(first.status, 0) << first.err;
   const double dt = read_summary(probe).at("dt").get<double>();
   fs::remove_all(probe);
@@ -120,7 +120,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, ShippedCase, ::testing::ValuesIn(shipped_case_na
 constexpr double kGrainVolume = 0.523598774;
 constexpr double kGrainArea = 3.505657368;
 constexpr double kGrainMoments[3] = {4.067273004e-02, 6.673530275e-02, 7.998680246e-02};  // unit density
-constexpr double kGrainWidths[3] = {1.435482621, 1.061005026, 0.759553790};  // along the file axes
+constexpr double kGrainWidths[3] = {1.435482621, 1.061005026, 0.759553790};               // along the file axes
 
 TEST(ShippedGrain, ShapeReadsTheMeshBackWithTheGeneratorsFigures) {
   const auto r = settle::test::run_settle("shape", "--mesh " + (cases_dir() / "grain.stl").string());
@@ -134,16 +134,14 @@ TEST(ShippedGrain, ShapeReadsTheMeshBackWithTheGeneratorsFigures) {
   // vertices, so they agree to the printed rounding (half a unit of the last digit).
   EXPECT_NEAR(shape.at("volume").get<double>(), kGrainVolume, 5e-10);
   EXPECT_NEAR(shape.at("surface_area").get<double>(), kGrainArea, 5e-10);
-  for (int i = 0; i < 3; ++i)
-    EXPECT_NEAR(shape.at("principal_moments")[i].get<double>(), kGrainMoments[i], 5e-12) << i;
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(shape.at("principal_moments")[i].get<double>(), kGrainMoments[i], 5e-12) << i;
   // The generator scaled the grain to d_eq = 1; float32 vertices move the volume by ~1e-8.
   EXPECT_NEAR(shape.at("equivalent_diameter").get<double>(), 1.0, 1e-8);
 
   // The generator turned the principal axes onto the file axes, so settle's principal extents are
   // the widths along x, y, z, up to the axes' misalignment left by float32 rounding (~1e-8 rad,
   // times the size: 1e-7 covers it).
-  for (int i = 0; i < 3; ++i)
-    EXPECT_NEAR(shape.at("principal_extents")[i].get<double>(), kGrainWidths[i], 1e-7) << i;
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(shape.at("principal_extents")[i].get<double>(), kGrainWidths[i], 1e-7) << i;
   const double L = kGrainWidths[0], I = kGrainWidths[1], S = kGrainWidths[2];
   // Shape factors from those extents and the area (definitions in docs/shapes.md), to the same 1e-7.
   EXPECT_NEAR(shape.at("elongation").get<double>(), I / L, 1e-7);

@@ -1,16 +1,16 @@
 // Attitude reconstruction from a sampled body-rate series (the standalone use of the
 // dual-Euler solver, Cheng et al. 2023, doi:10.1063/5.0165555, supplementary material).
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "attitude/attitude.hpp"
 #include "attitude/body_rate_series.hpp"
@@ -21,8 +21,8 @@ namespace settle::attitude {
 namespace test_body_rate_series {
 
 std::string write_temp_csv(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("settle_attitude_" + std::to_string(::getpid()) + "_" + name + ".csv");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("settle_attitude_" + std::to_string(::getpid()) + "_" + name + ".csv");
   std::ofstream(path) << text;
   return path.string();
 }

@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "attitude/attitude.hpp"
 #include "attitude/euler.hpp"
@@ -21,9 +21,7 @@ namespace test_euler {
 
 constexpr double pi = std::numbers::pi;
 
-double max_abs_difference(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  return (a - b).cwiseAbs().maxCoeff();
-}
+double max_abs_difference(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) { return (a - b).cwiseAbs().maxCoeff(); }
 
 /// Angles uniform in [-pi, pi] for all three (every quadrant of every angle).
 std::vector<Eigen::Vector3d> random_angles(int count, unsigned seed) {
@@ -72,16 +70,14 @@ TEST(EulerMatrices, ElementaryRotationsArePassiveAxisRotations) {
 // The forward maps (S6 and its set-2 counterpart) checked against the kinematics itself:
 // [omega_b]x = (C_b^n)^T d(C_b^n)/dt, with the time derivative by central differences.
 template <typename MatrixOf, typename ForwardMap>
-void check_forward_map_against_matrix_derivative(MatrixOf matrix_of, ForwardMap forward,
-                                                 unsigned seed) {
+void check_forward_map_against_matrix_derivative(MatrixOf matrix_of, ForwardMap forward, unsigned seed) {
   std::mt19937_64 generator(seed);
   std::uniform_real_distribution<double> rate(-2.0, 2.0);
   const double h = 1e-5;
   for (const Eigen::Vector3d& a : random_angles(200, seed)) {
     const Eigen::Vector3d angle_rates(rate(generator), rate(generator), rate(generator));
     const Eigen::Matrix3d derivative =
-        (matrix_of(Eigen::Vector3d(a + h * angle_rates)) - matrix_of(Eigen::Vector3d(a - h * angle_rates))) /
-        (2.0 * h);
+        (matrix_of(Eigen::Vector3d(a + h * angle_rates)) - matrix_of(Eigen::Vector3d(a - h * angle_rates))) / (2.0 * h);
     const Eigen::Matrix3d skew = matrix_of(a).transpose() * derivative;
     const Eigen::Vector3d omega(skew(2, 1), skew(0, 2), skew(1, 0));
     // Central-difference truncation h^2/6 |R'''| <= 1e-10/6 * 6^3 ~ 4e-9 for rates up to
@@ -125,14 +121,14 @@ void check_inverse_rate_map(Inverse inverse, Forward forward, int singular_index
 
 TEST(EulerRates, S7InvertsSet1ForwardMap) {
   check_inverse_rate_map([](const Eigen::Vector3d& a, const Eigen::Vector3d& w) { return set1_angle_rates(a, w); },
-                         [](const Eigen::Vector3d& a, const Eigen::Vector3d& r) { return set1_body_rates(a, r); },
-                         1, 5);
+                         [](const Eigen::Vector3d& a, const Eigen::Vector3d& r) { return set1_body_rates(a, r); }, 1,
+                         5);
 }
 
 TEST(EulerRates, S9InvertsSet2ForwardMap) {
   check_inverse_rate_map([](const Eigen::Vector3d& a, const Eigen::Vector3d& w) { return set2_angle_rates(a, w); },
-                         [](const Eigen::Vector3d& a, const Eigen::Vector3d& r) { return set2_body_rates(a, r); },
-                         2, 6);
+                         [](const Eigen::Vector3d& a, const Eigen::Vector3d& r) { return set2_body_rates(a, r); }, 2,
+                         6);
 }
 
 // The seed's conversion formulas (S11/S12) with two-argument arctangents and clamped arcsines
@@ -156,8 +152,9 @@ double round_trip_error(const Eigen::Vector3d& set1, ToSet1 to_set1, ToSet2 to_s
 }
 
 double round_trip_error(const Eigen::Vector3d& set1) {
-  return round_trip_error(set1, [](const Eigen::Matrix3d& z) { return set1_angles_from_matrix(z); },
-                          [](const Eigen::Matrix3d& z) { return set2_angles_from_matrix(z); });
+  return round_trip_error(
+      set1, [](const Eigen::Matrix3d& z) { return set1_angles_from_matrix(z); },
+      [](const Eigen::Matrix3d& z) { return set2_angles_from_matrix(z); });
 }
 
 double seed_round_trip_error(const Eigen::Vector3d& set1) {
@@ -175,8 +172,7 @@ TEST(EulerConversion, RoundTripAllQuadrants) {
     worst = std::max(worst, round_trip_error(a));  // round_trip_error maps NaN to infinity
     seed_worst = std::max(seed_worst, seed_round_trip_error(a));
   }
-  std::printf("[measured] round trip, 1e5 random angle triples: %.3g (seed formulas: %.3g)\n", worst,
-              seed_worst);
+  std::printf("[measured] round trip, 1e5 random angle triples: %.3g (seed formulas: %.3g)\n", worst, seed_worst);
   // Three conversions, each a few atan2/sin/cos (1-ulp functions) on unit-size values:
   // ~1e-15 expected; 1e-14 leaves a factor of ten.
   EXPECT_LT(worst, 1e-14);
@@ -223,15 +219,15 @@ TEST(EulerConversion, NearSingularPointKeepsFullPrecision) {
   for (double offset : {1e-6, 1e-9, 1e-12}) {
     double worst = 0.0, seed_worst = 0.0;
     for (double sign : {1.0, -1.0}) {
-      for (const Eigen::Vector3d& a : {Eigen::Vector3d(0.8, sign * (pi / 2 - offset), -1.9),    // set-1 near-singular
-                                       Eigen::Vector3d(-2.2, 0.0, sign * (pi / 2 - offset)),    // set-2 near-singular
+      for (const Eigen::Vector3d& a : {Eigen::Vector3d(0.8, sign * (pi / 2 - offset), -1.9),  // set-1 near-singular
+                                       Eigen::Vector3d(-2.2, 0.0, sign * (pi / 2 - offset)),  // set-2 near-singular
                                        Eigen::Vector3d(0.3, offset, sign * (pi / 2 - offset))}) {
         worst = std::max(worst, round_trip_error(a));
         seed_worst = std::max(seed_worst, seed_round_trip_error(a));
       }
     }
-    std::printf("[measured] round trip %.0e rad from the singular angle: %.3g (seed formulas: %.3g)\n", offset,
-                worst, seed_worst);
+    std::printf("[measured] round trip %.0e rad from the singular angle: %.3g (seed formulas: %.3g)\n", offset, worst,
+                seed_worst);
     // Rounding level, as for the regular round trip.
     EXPECT_LT(worst, 1e-14);
   }
@@ -258,9 +254,9 @@ TEST(EulerConversion, SingularMatricesBuiltElsewhereAreReproduced) {
         // Rounding level of unit-size entries (measured 9e-16).
         EXPECT_LT(max_abs_difference(set1_body_to_inertial(set1_angles_from_matrix(set1_locked)), set1_locked), 1e-14);
         EXPECT_LT(max_abs_difference(set2_body_to_inertial(set2_angles_from_matrix(set2_locked)), set2_locked), 1e-14);
-        seed_worst = std::max({seed_worst,
-                               max_abs_difference(set1_body_to_inertial(seed_set1_angles(set1_locked)), set1_locked),
-                               max_abs_difference(set2_body_to_inertial(seed_set2_angles(set2_locked)), set2_locked)});
+        seed_worst =
+            std::max({seed_worst, max_abs_difference(set1_body_to_inertial(seed_set1_angles(set1_locked)), set1_locked),
+                      max_abs_difference(set2_body_to_inertial(seed_set2_angles(set2_locked)), set2_locked)});
       }
     }
   }

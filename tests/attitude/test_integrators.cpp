@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <numbers>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "support/matrix_checks.hpp"
 
@@ -60,7 +60,8 @@ TopComparison run_intermediate_axis_top(double dt, double t_end) {
     raise_to(result.max_energy_drift, std::abs(rotational_energy(inertia, dual.omega_b) - energy0) / energy0);
     const Eigen::Vector3d momentum = r_dual * (inertia.tensor() * dual.omega_b);
     raise_to(result.max_momentum_drift, (momentum - momentum0).norm() / momentum0.norm());
-    raise_to(result.max_orthonormality_error, max_abs_difference(r_dual.transpose() * r_dual, Eigen::Matrix3d::Identity()));
+    raise_to(result.max_orthonormality_error,
+             max_abs_difference(r_dual.transpose() * r_dual, Eigen::Matrix3d::Identity()));
     // The rule's choice for the quaternion's attitude, tracked independently.
     const EulerSet rule_set = Attitude::from_quaternion(quaternion.orientation).set();
     if (rule_set != previous_rule_set) ++result.quaternion_rule_switches;
@@ -71,10 +72,10 @@ TopComparison run_intermediate_axis_top(double dt, double t_end) {
 
 TEST(DualEulerTorqueFree, IntermediateAxisTopAgreesWithQuaternion) {
   const TopComparison r = run_intermediate_axis_top(1e-3, 40.0);
-  std::printf("[measured] intermediate-axis top, dt=1e-3, t=40: switches %d, max |R_dual - R_quat| %.3g, "
-              "energy drift %.3g, |L_n| drift %.3g, orthonormality %.3g\n",
-              r.switches, r.max_matrix_difference, r.max_energy_drift, r.max_momentum_drift,
-              r.max_orthonormality_error);
+  std::printf(
+      "[measured] intermediate-axis top, dt=1e-3, t=40: switches %d, max |R_dual - R_quat| %.3g, "
+      "energy drift %.3g, |L_n| drift %.3g, orthonormality %.3g\n",
+      r.switches, r.max_matrix_difference, r.max_energy_drift, r.max_momentum_drift, r.max_orthonormality_error);
   // The body flips about its intermediate axis; each half turn of pitch is two switches.
   EXPECT_GE(r.switches, 10);
   // The dual-Euler switches whenever the rule, applied to the quaternion's attitude, would
@@ -175,8 +176,8 @@ TEST(DualEulerTorqueFree, ConvergesAtFourthOrder) {
   const double fine = symmetric_top_dual_euler(top, 0.01, 10.0).attitude;
   const double order_coarse = std::log2(coarse / medium);
   const double order_fine = std::log2(medium / fine);
-  std::printf("[measured] convergence: errors %.3g %.3g %.3g, observed orders %.3f %.3f\n", coarse, medium,
-              fine, order_coarse, order_fine);
+  std::printf("[measured] convergence: errors %.3g %.3g %.3g, observed orders %.3f %.3f\n", coarse, medium, fine,
+              order_coarse, order_fine);
   // Classical RK4 is fourth order; the window allows for the rounding left at the finest step.
   EXPECT_GT(order_fine, 3.8);
   EXPECT_LT(order_fine, 4.2);
@@ -199,7 +200,8 @@ TEST(DualEulerKinematics, ConstantRotationAboutBodyYThroughManyTurns) {
       if (dual_euler_step(attitude, i * dt, dt, omega_b)) ++switches;
       const Eigen::Matrix3d r = attitude.body_to_inertial();
       ASSERT_TRUE(r.allFinite()) << "step " << i;
-      const Eigen::Matrix3d exact = initial.body_to_inertial() * rotation_about(Eigen::Vector3d::UnitY(), rate * (i + 1) * dt);
+      const Eigen::Matrix3d exact =
+          initial.body_to_inertial() * rotation_about(Eigen::Vector3d::UnitY(), rate * (i + 1) * dt);
       raise_to(error, max_abs_difference(r, exact));
     }
     std::printf("[measured] constant body-y rotation: %d switches, max error %.3g\n", switches, error);
@@ -221,9 +223,8 @@ TEST(DualEulerKinematics, TwoPointFormEqualsLinearRateFunction) {
     Attitude two_point = initial;
     Attitude function_form = initial;
     const bool switched = dual_euler_step(two_point, dt, start, end);
-    const bool switched_too = dual_euler_step(function_form, 10.0, dt, [&](double t) -> Eigen::Vector3d {
-      return start + (t - 10.0) / dt * (end - start);
-    });
+    const bool switched_too = dual_euler_step(
+        function_form, 10.0, dt, [&](double t) -> Eigen::Vector3d { return start + (t - 10.0) / dt * (end - start); });
     EXPECT_EQ(switched, switched_too);
     // Same arithmetic up to the rounding of the interpolation weights: a few ulps.
     EXPECT_LT(max_abs_difference(two_point.body_to_inertial(), function_form.body_to_inertial()), 1e-15);

@@ -35,11 +35,11 @@ inline TriangleMesh box_mesh(const Eigen::Vector3d& size, const Eigen::Vector3d&
 inline TriangleMesh icosphere(int levels, double radius) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   TriangleMesh mesh;
-  mesh.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  mesh.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+  mesh.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  mesh.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                     {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                    {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (auto& v : mesh.vertices) v.normalize();
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> midpoint;
@@ -110,8 +110,8 @@ struct MarkerQuality {
   double max_coverage = 0.0;
   double max_off_surface = 0.0;
   double min_area = 0.0, max_area = 0.0, mean_area = 0.0;  ///< in units of h^2
-  double max_normal_error = 0.0;                            ///< |n - outward_normal| (smooth shapes)
-  double vector_area_sum = 0.0;                             ///< |sum a_i n_i| / total area
+  double max_normal_error = 0.0;                           ///< |n - outward_normal| (smooth shapes)
+  double vector_area_sum = 0.0;                            ///< |sum a_i n_i| / total area
 };
 
 inline MarkerQuality measure_markers(const Shape& shape, const SurfaceMarkers& markers,

@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "shape_test_support.hpp"
 #include "support/matrix_checks.hpp"
@@ -31,9 +31,9 @@ using settle::test::rotation_about;
 
 /// Body-frame directions: the axes, a few generic ones and one 1e-3 rad off an axis.
 std::vector<Eigen::Vector3d> test_directions() {
-  std::vector<Eigen::Vector3d> d = {Eigen::Vector3d::UnitX(),  -Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitZ(),
-                                    {1.0, 2.0, -3.0},          {-0.3, 0.1, 0.9},          {0.7, -0.7, 0.1},
-                                    {1e-3, 0.0, -1.0},         {-2.0, -1.0, -0.5}};
+  std::vector<Eigen::Vector3d> d = {Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitZ(),
+                                    {1.0, 2.0, -3.0},         {-0.3, 0.1, 0.9},          {0.7, -0.7, 0.1},
+                                    {1e-3, 0.0, -1.0},        {-2.0, -1.0, -0.5}};
   for (auto& v : d) v.normalize();
   return d;
 }
@@ -298,30 +298,31 @@ Impact bounce(RigidBody body, WallContact contact, double dt) {
 TEST(DryImpact, SphereReboundsWithTheRestitutionAfterTheCollisionTime) {
   for (double e : {1.0, 0.9, 0.5, 0.1})
     for (double phase : {0.0, 0.25, 0.5, 0.77}) {  // where in a fluid step the contact starts
-    const Rig rig = sphere_rig(e);
-    const WallContact contact(rig.shape, {rig.floor}, rig.parameters);
-    const double v = 0.2, t_c = rig.parameters.collision_time_si, dt = t_c / 10.0;  // 10 fluid steps per collision
-    const double zeta = rig.parameters.contact_distance_si;
-    const Impact r = bounce(body_at(rig, {0.0, 0.0, 0.5 + zeta + phase * v * dt}, {0.0, 0.0, -v}), contact, dt);
-    std::printf("[measured] dry sphere impact e = %.2f, phase %.2f: rebound ratio %.6f, contact %.2f T_c, max overlap "
-                "%.4f v T_c/pi\n",
-                e, phase, r.rebound_ratio, r.contact_time / t_c, r.max_overlap / (v * t_c / std::numbers::pi));
-    // Error sources: the explicit midpoint rule (second order: ~1e-5 with N = 100 substeps per
-    // collision) and the dashpot switching on and off inside a substep, at most half a substep of
-    // dashpot impulse each, c v h / 2, i.e. |ln e| / N of the incoming speed at the start and
-    // |ln e| e / N at the end (contact.hpp). The tolerance is that bound plus 1e-4.
-    const double switching = std::abs(std::log(e)) * (1.0 + e) / rig.parameters.substeps_per_collision;
-    EXPECT_NEAR(r.rebound_ratio, e, switching + 1e-4);
-    // Contact duration T_c, counted in whole fluid steps: within one step at each end.
-    EXPECT_NEAR(r.contact_time, t_c, 2.0 * dt + 1e-12);
-    // The largest overlap is below the undamped amplitude v T_c / pi (reached when e = 1).
-    EXPECT_LE(r.max_overlap, max_overlap_bound(0.0, v, 1.0, t_c) * 1.001);
-    if (e == 1.0) {
-      EXPECT_NEAR(r.max_overlap, v * t_c / std::numbers::pi, 0.01 * v * t_c / std::numbers::pi);  // sampled peak
-      EXPECT_NEAR(r.energy_after, r.energy_before, 1e-4 * r.energy_before);  // midpoint rule, ~1e-4 per contact
+      const Rig rig = sphere_rig(e);
+      const WallContact contact(rig.shape, {rig.floor}, rig.parameters);
+      const double v = 0.2, t_c = rig.parameters.collision_time_si, dt = t_c / 10.0;  // 10 fluid steps per collision
+      const double zeta = rig.parameters.contact_distance_si;
+      const Impact r = bounce(body_at(rig, {0.0, 0.0, 0.5 + zeta + phase * v * dt}, {0.0, 0.0, -v}), contact, dt);
+      std::printf(
+          "[measured] dry sphere impact e = %.2f, phase %.2f: rebound ratio %.6f, contact %.2f T_c, max overlap "
+          "%.4f v T_c/pi\n",
+          e, phase, r.rebound_ratio, r.contact_time / t_c, r.max_overlap / (v * t_c / std::numbers::pi));
+      // Error sources: the explicit midpoint rule (second order: ~1e-5 with N = 100 substeps per
+      // collision) and the dashpot switching on and off inside a substep, at most half a substep of
+      // dashpot impulse each, c v h / 2, i.e. |ln e| / N of the incoming speed at the start and
+      // |ln e| e / N at the end (contact.hpp). The tolerance is that bound plus 1e-4.
+      const double switching = std::abs(std::log(e)) * (1.0 + e) / rig.parameters.substeps_per_collision;
+      EXPECT_NEAR(r.rebound_ratio, e, switching + 1e-4);
+      // Contact duration T_c, counted in whole fluid steps: within one step at each end.
+      EXPECT_NEAR(r.contact_time, t_c, 2.0 * dt + 1e-12);
+      // The largest overlap is below the undamped amplitude v T_c / pi (reached when e = 1).
+      EXPECT_LE(r.max_overlap, max_overlap_bound(0.0, v, 1.0, t_c) * 1.001);
+      if (e == 1.0) {
+        EXPECT_NEAR(r.max_overlap, v * t_c / std::numbers::pi, 0.01 * v * t_c / std::numbers::pi);  // sampled peak
+        EXPECT_NEAR(r.energy_after, r.energy_before, 1e-4 * r.energy_before);  // midpoint rule, ~1e-4 per contact
+      }
+      EXPECT_LT(r.after.angular_velocity_b_si.norm(), 1e-9);  // central force: no spin
     }
-    EXPECT_LT(r.after.angular_velocity_b_si.norm(), 1e-9);  // central force: no spin
-  }
 }
 
 TEST(DryImpact, FlatCuboidBouncesFlatWithTheRestitution) {
@@ -365,9 +366,10 @@ TEST(DryImpact, ElasticImpactsOfTiltedBodiesConserveEnergy) {
       return std::abs(r.energy_after - r.energy_before) / r.energy_before;
     };
     const double drift = drift_with(100), drift_fine = drift_with(800);
-    std::printf("[measured] elastic tilted %s impact: relative energy change %.2e (100 substeps per collision), "
-                "%.2e (800)\n",
-                name, drift, drift_fine);
+    std::printf(
+        "[measured] elastic tilted %s impact: relative energy change %.2e (100 substeps per collision), "
+        "%.2e (800)\n",
+        name, drift, drift_fine);
     // The integration error: second order in the substep where the force is smooth, first order
     // across the kinks (entry, exit, a faceted body's touching corner changing). With the default
     // N = 100 it stays below 1e-3. It must vanish as the substep shrinks: a wrong contact point or
@@ -408,8 +410,8 @@ TEST(WallContactAdvance, AwayFromTheWallsItIsThePlainCorrector) {
   WallContact contact(rig.shape, {rig.floor}, rig.parameters);
   const Environment environment{1000.0, {0.0, 0.0, -9.81}};
   const Wrench external{{0.1, -0.2, 3.0}, {0.01, 0.02, -0.03}};
-  RigidBody a = body_at(rig, {0.0, 0.0, 2.0}, {0.0, 0.0, -0.1}, rotation_about({1, 1, 0}, 0.3), {0.1, 0.2, 0.3},
-                        environment);
+  RigidBody a =
+      body_at(rig, {0.0, 0.0, 2.0}, {0.0, 0.0, -0.1}, rotation_about({1, 1, 0}, 0.3), {0.1, 0.2, 0.3}, environment);
   RigidBody b = a;
   const ContactStep s = contact.advance(a, 1e-3, external);
   b.correct(1e-3, external);
@@ -472,9 +474,10 @@ TEST(WetImpact, SphereReboundsWithTheRestitutionOfItsImpactSpeed) {
     const double t_c = rig.parameters.collision_time_si, dt = t_c / 10.0;
     const double zeta = rig.parameters.contact_distance_si;
     const Impact r = bounce(body_at(rig, {0.0, 0.0, 0.5 + zeta + 0.3 * v * dt}, {0.0, 0.0, -v}), contact, dt);
-    std::printf("[measured] wet sphere impact St = %.1f: e = %.6f, rebound ratio %.6f, contact %.2f T_c, max overlap "
-                "%.3f v T_c / pi\n", stokes, e, r.rebound_ratio, r.contact_time / t_c,
-                r.max_overlap / (v * t_c / std::numbers::pi));
+    std::printf(
+        "[measured] wet sphere impact St = %.1f: e = %.6f, rebound ratio %.6f, contact %.2f T_c, max overlap "
+        "%.3f v T_c / pi\n",
+        stokes, e, r.rebound_ratio, r.contact_time / t_c, r.max_overlap / (v * t_c / std::numbers::pi));
     // The dry test's bound for the dashpot switching on and off inside a substep, |ln e| (1 + e) / N,
     // plus 1e-4 (DryImpact above); at the floor (St = 2) it is 7% of the impact speed.
     EXPECT_NEAR(r.rebound_ratio, e, std::abs(std::log(e)) * (1.0 + e) / rig.parameters.substeps_per_collision + 1e-4);

@@ -65,7 +65,8 @@ TEST(Cuboid, MeanPerpendicularShadowMatchesQuadrature) {
     const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
     const int n = 20000;
     double sum = 0.0;
-    for (int k = 0; k < n; ++k) sum += box.projected_area(std::cos(pi * (k + 0.5) / n) * u + std::sin(pi * (k + 0.5) / n) * v);
+    for (int k = 0; k < n; ++k)
+      sum += box.projected_area(std::cos(pi * (k + 0.5) / n) * u + std::sin(pi * (k + 0.5) / n) * v);
     EXPECT_NEAR(box.mean_projected_area_perpendicular(axis) / (sum / n), 1.0, 1e-7) << axis.transpose();
   }
 }
@@ -129,10 +130,11 @@ TEST(Cuboid, MarkersMeetRequirements) {
     const double h = box.equivalent_diameter() / 20.0;
     const SurfaceMarkers markers = box.surface_markers(h);
     std::mt19937_64 rng(12);
-    const auto q = testing::measure_markers(box, markers, testing::random_points_on_mesh(testing::box_mesh(size), 20000, rng));
+    const auto q =
+        testing::measure_markers(box, markers, testing::random_points_on_mesh(testing::box_mesh(size), 20000, rng));
     std::printf("cuboid %g x %g x %g: N=%zu area_err=%.2e nn=[%.3f, %.3f]h coverage=%.3fh area=[%.3f, %.3f]h^2\n",
-                size.x(), size.y(), size.z(), q.count, q.area_error, q.min_nearest,
-                q.max_nearest, q.max_coverage, q.min_area, q.max_area);
+                size.x(), size.y(), size.z(), q.count, q.area_error, q.min_nearest, q.max_nearest, q.max_coverage,
+                q.min_area, q.max_area);
     EXPECT_LT(std::abs(q.area_error), 1e-12);  // exact cell areas
     EXPECT_LE(q.max_nearest, 1.5);
     EXPECT_LE(q.max_coverage, 1.0);
@@ -141,9 +143,7 @@ TEST(Cuboid, MarkersMeetRequirements) {
   }
 }
 
-TEST(Cuboid, RefusesBadSize) {
-  EXPECT_THROW(Cuboid(Eigen::Vector3d(1.0, 0.0, 1.0)), settle::InputError);
-}
+TEST(Cuboid, RefusesBadSize) { EXPECT_THROW(Cuboid(Eigen::Vector3d(1.0, 0.0, 1.0)), settle::InputError); }
 
 }  // namespace test_cuboid
 }  // namespace settle::body

@@ -196,7 +196,8 @@ TEST_P(CylinderMarkers, MeetRequirements) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, CylinderMarkers,
-                         ::testing::Values(MarkerCase{"rod", 1.0, 2.0, 1.0 / 20}, MarkerCase{"disk", 1.0, 0.1, 1.0 / 20},
+                         ::testing::Values(MarkerCase{"rod", 1.0, 2.0, 1.0 / 20},
+                                           MarkerCase{"disk", 1.0, 0.1, 1.0 / 20},
                                            MarkerCase{"coin_thinner_than_h", 1.0, 0.02, 1.0 / 20},
                                            MarkerCase{"cube_like", 1.0, 1.0, 1.0 / 40}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });

@@ -84,7 +84,8 @@ TEST(Ellipsoid, TriaxialAreaMatchesLegendreForm) {
   for (const Eigen::Vector3d& axes : {Eigen::Vector3d(3.0, 2.0, 1.0), Eigen::Vector3d(1.0, 0.6, 0.3),
                                       Eigen::Vector3d(10.0, 1.0, 0.1), Eigen::Vector3d(1.2, 1.1, 1.0)}) {
     const Ellipsoid e(axes);
-    EXPECT_LT(relative(e.surface_area(), legendre_ellipsoid_area(axes.x(), axes.y(), axes.z())), 1e-12) << axes.transpose();
+    EXPECT_LT(relative(e.surface_area(), legendre_ellipsoid_area(axes.x(), axes.y(), axes.z())), 1e-12)
+        << axes.transpose();
   }
 }
 
@@ -110,7 +111,8 @@ TEST(Ellipsoid, ProjectedAreas) {
   // a and sqrt(a^2 cos^2 theta + c^2 sin^2 theta).
   for (double theta : {0.1, 0.7, 1.3}) {
     const Eigen::Vector3d n(std::sin(theta), 0.0, std::cos(theta));
-    const double expected = pi * a * std::sqrt(a * a * std::cos(theta) * std::cos(theta) + c * c * std::sin(theta) * std::sin(theta));
+    const double expected =
+        pi * a * std::sqrt(a * a * std::cos(theta) * std::cos(theta) + c * c * std::sin(theta) * std::sin(theta));
     EXPECT_NEAR(s.projected_area(n), expected, kClosedForm * expected);
   }
 }
@@ -119,8 +121,8 @@ TEST(Ellipsoid, MeanPerpendicularProjectionMatchesQuadrature) {
   // The trapezoidal rule on a smooth periodic integrand converges geometrically: 4096 points
   // give the mean to round-off, so 1e-12 tests the elliptic-integral closed form.
   const Ellipsoid e(Eigen::Vector3d(3.0, 2.0, 1.0));
-  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, 3).normalized(),
-                                      Eigen::Vector3d(1, 0, 0)}) {
+  for (const Eigen::Vector3d& axis :
+       {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, 3).normalized(), Eigen::Vector3d(1, 0, 0)}) {
     const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
     double sum = 0.0;
     const int n = 4096;
@@ -142,8 +144,8 @@ TEST(Ellipsoid, ClosestPointSatisfiesOptimalityAndBeatsDenseSample) {
     const double theta = pi * i / 400;
     for (int j = 0; j < 800; ++j) {
       const double phi = 2 * pi * j / 800;
-      samples.push_back(axes.cwiseProduct(Eigen::Vector3d(std::sin(theta) * std::cos(phi),
-                                                           std::sin(theta) * std::sin(phi), std::cos(theta))));
+      samples.push_back(axes.cwiseProduct(
+          Eigen::Vector3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta))));
     }
   }
   std::mt19937_64 rng(2);
@@ -300,9 +302,10 @@ TEST_P(EllipsoidMarkers, MeetRequirements) {
   for (int i = 0; i < 20000; ++i) samples.push_back(e.semi_axes().cwiseProduct(random_unit(rng)));
   const auto q = measure_markers(e, markers, samples);
   RecordProperty("count", static_cast<int>(q.count));
-  std::printf("%s: N=%zu area_err=%.2e nn=[%.3f, %.3f]h coverage=%.3fh area=[%.3f, %.3f]h^2 mean %.3f |sum a n|/A=%.2e\n",
-              GetParam().name, q.count, q.area_error, q.min_nearest, q.max_nearest, q.max_coverage, q.min_area,
-              q.max_area, q.mean_area, q.vector_area_sum);
+  std::printf(
+      "%s: N=%zu area_err=%.2e nn=[%.3f, %.3f]h coverage=%.3fh area=[%.3f, %.3f]h^2 mean %.3f |sum a n|/A=%.2e\n",
+      GetParam().name, q.count, q.area_error, q.min_nearest, q.max_nearest, q.max_coverage, q.min_area, q.max_area,
+      q.mean_area, q.vector_area_sum);
   EXPECT_LT(std::abs(q.area_error), 0.01);
   EXPECT_LE(q.max_nearest, 1.5);
   EXPECT_LE(q.max_coverage, 1.0);

@@ -31,9 +31,9 @@ TEST(MassProperties, DegenerateDiagonalTensorKeepsBodyAxes) {
 }
 
 TEST(MassProperties, RotatedTensorRecoversRotation) {
-  const Eigen::Matrix3d rotation =
-      (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()) * Eigen::AngleAxisd(-1.1, Eigen::Vector3d::UnitX()))
-          .toRotationMatrix();
+  const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()) *
+                                    Eigen::AngleAxisd(-1.1, Eigen::Vector3d::UnitX()))
+                                       .toRotationMatrix();
   const Eigen::Vector3d moments(0.5, 1.25, 4.0);
   const Eigen::Matrix3d tensor = rotation * moments.asDiagonal() * rotation.transpose();
   const PrincipalFrame frame = principal_frame(tensor);

@@ -23,7 +23,8 @@ using testing::box_mesh;
 constexpr double kExact = 1e-13;
 
 Eigen::Matrix3d test_rotation() {
-  return (Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, -2, 0.5).normalized()) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))
+  return (Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, -2, 0.5).normalized()) *
+          Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))
       .toRotationMatrix();
 }
 
@@ -57,7 +58,8 @@ TEST(MeshShape, BoxDistanceIsExactIncludingEdgesAndCorners) {
   std::vector<Eigen::Vector3d> local;
   for (int i = 0; i < 2000; ++i) local.push_back(testing::random_in_box(rng, 0.75 * size));
   for (int corner = 0; corner < 8; ++corner) {  // just outside and inside each corner
-    const Eigen::Vector3d c = 0.5 * size.cwiseProduct(Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+    const Eigen::Vector3d c =
+        0.5 * size.cwiseProduct(Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
     local.push_back(1.01 * c);
     local.push_back(0.99 * c);
     local.push_back(c + 0.01 * Eigen::Vector3d(1, -1, 1));
@@ -116,8 +118,8 @@ TEST(MeshShape, RegularTetrahedronHasIsotropicInertia) {
   const MassProperties p = tet.mass_properties(1.0);
   EXPECT_NEAR(p.volume, 8.0 / 3.0, kExact);
   EXPECT_TRUE(p.inertia.isApprox(Eigen::Matrix3d::Identity() * p.mass * 8.0 / 20.0, kExact));
-  EXPECT_NEAR(compute_shape_factors(tet, Eigen::Vector3d::UnitZ()).sphericity,
-              std::cbrt(pi / (6.0 * std::sqrt(3.0))), 1e-12);  // (pi / 6 sqrt 3)^(1/3) = 0.671
+  EXPECT_NEAR(compute_shape_factors(tet, Eigen::Vector3d::UnitZ()).sphericity, std::cbrt(pi / (6.0 * std::sqrt(3.0))),
+              1e-12);  // (pi / 6 sqrt 3)^(1/3) = 0.671
 }
 
 TEST(MeshShape, IcosphereConvergesToTheSphere) {
@@ -127,9 +129,10 @@ TEST(MeshShape, IcosphereConvergesToTheSphere) {
   double previous[3] = {0, 0, 0};
   for (int level = 2; level <= 6; ++level) {
     const MeshShape mesh(testing::icosphere(level, r), "icosphere");
-    const double errors[3] = {std::abs(mesh.volume() / (4.0 / 3.0 * pi * r * r * r) - 1.0),
-                              std::abs(mesh.surface_area() / (4.0 * pi * r * r) - 1.0),
-                              std::abs(mesh.mass_properties(1.0).inertia(2, 2) / (8.0 / 15.0 * pi * std::pow(r, 5)) - 1.0)};
+    const double errors[3] = {
+        std::abs(mesh.volume() / (4.0 / 3.0 * pi * r * r * r) - 1.0),
+        std::abs(mesh.surface_area() / (4.0 * pi * r * r) - 1.0),
+        std::abs(mesh.mass_properties(1.0).inertia(2, 2) / (8.0 / 15.0 * pi * std::pow(r, 5)) - 1.0)};
     for (int k = 0; k < 3; ++k) {
       if (level > 2) {
         EXPECT_NEAR(previous[k] / errors[k], 4.0, 0.25) << "level " << level << " quantity " << k;
@@ -201,7 +204,8 @@ TEST(MeshShape, NonConvexPrismVolumeSignAndShadows) {
   EXPECT_TRUE(mesh.volume_moments().centroid.isApprox(Eigen::Vector3d(5.0 / 6.0, 5.0 / 6.0, 0.25), kExact));
   const Eigen::Vector3d c = mesh.volume_moments().centroid;
   auto inside_l = [&](const Eigen::Vector3d& q) {
-    return q.z() >= 0 && q.z() <= h && q.x() >= 0 && q.y() >= 0 && ((q.x() <= 2 && q.y() <= 1) || (q.x() <= 1 && q.y() <= 2));
+    return q.z() >= 0 && q.z() <= h && q.x() >= 0 && q.y() >= 0 &&
+           ((q.x() <= 2 && q.y() <= 1) || (q.x() <= 1 && q.y() <= 2));
   };
   std::mt19937_64 rng(43);
   for (int i = 0; i < 3000; ++i) {
@@ -269,9 +273,11 @@ TEST(MeshShape, MarkersMeetRequirements) {
     const double h = mesh.equivalent_diameter() / 20.0;
     const SurfaceMarkers markers = mesh.surface_markers(h);
     std::mt19937_64 rng(45);
-    const auto q = testing::measure_markers(mesh, markers, testing::random_points_on_mesh(mesh.body_mesh(), 20000, rng));
+    const auto q =
+        testing::measure_markers(mesh, markers, testing::random_points_on_mesh(mesh.body_mesh(), 20000, rng));
     std::printf("%s: N=%zu area_err=%.2e nn=[%.3f, %.3f]h coverage=%.3fh area=[%.3f, %.3f]h^2 mean %.3f\n", c.name,
-                q.count, q.area_error, q.min_nearest, q.max_nearest, q.max_coverage, q.min_area, q.max_area, q.mean_area);
+                q.count, q.area_error, q.min_nearest, q.max_nearest, q.max_coverage, q.min_area, q.max_area,
+                q.mean_area);
     // The patches tile the mesh exactly: the areas sum to its area to round-off.
     EXPECT_LT(std::abs(q.area_error), 1e-12) << c.name;
     EXPECT_LE(q.max_nearest, 1.5) << c.name;

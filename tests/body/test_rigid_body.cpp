@@ -6,8 +6,8 @@
 #include <numbers>
 #include <utility>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "support/matrix_checks.hpp"
 
@@ -121,15 +121,18 @@ TEST(RigidBodyRotation, FullTensorMatchesRotatedDiagonalCase) {
   for (int i = 0; i < 30000; ++i) {
     principal.advance(i * dt, dt);
     rotated.advance(i * dt, dt);
-    raise_to(attitude_difference, max_abs_difference(rotated.body_to_inertial(), principal.body_to_inertial() * q.transpose()));
-    raise_to(omega_difference, (rotated.state().angular_velocity_b_si - q * principal.state().angular_velocity_b_si).norm());
+    raise_to(attitude_difference,
+             max_abs_difference(rotated.body_to_inertial(), principal.body_to_inertial() * q.transpose()));
+    raise_to(omega_difference,
+             (rotated.state().angular_velocity_b_si - q * principal.state().angular_velocity_b_si).norm());
     raise_to(energy_drift, std::abs(rotated.kinetic_energy_si() - energy0) / energy0);
     raise_to(momentum_drift, (rotated.angular_momentum_n_si() - momentum0).norm() / momentum0.norm());
   }
-  std::printf("[measured] full tensor vs rotated diagonal, dt=1e-3, t=30: attitude %.3g, omega %.3g, "
-              "energy drift %.3g, |L_n| drift %.3g, switches %ld / %ld\n",
-              attitude_difference, omega_difference, energy_drift, momentum_drift, rotated.switch_count(),
-              principal.switch_count());
+  std::printf(
+      "[measured] full tensor vs rotated diagonal, dt=1e-3, t=30: attitude %.3g, omega %.3g, "
+      "energy drift %.3g, |L_n| drift %.3g, switches %ld / %ld\n",
+      attitude_difference, omega_difference, energy_drift, momentum_drift, rotated.switch_count(),
+      principal.switch_count());
   // The tumbling takes both bodies through both charts (each in its own frame's angles).
   EXPECT_GE(principal.switch_count(), 2);
   EXPECT_GE(rotated.switch_count(), 2);
@@ -152,9 +155,9 @@ TEST(RigidBodyRotation, FullTensorMatchesRotatedDiagonalCase) {
 
 struct HeavyTop {
   double mass = 1.0;
-  double axial = 0.02;            // kg m^2 about the symmetry axis (body z)
-  double transverse_cm = 0.005;   // kg m^2 about a transverse axis through the centre of mass
-  Eigen::Vector3d offset_b{0.0, 0.0, 0.1};    // pivot to centre of mass, m
+  double axial = 0.02;                      // kg m^2 about the symmetry axis (body z)
+  double transverse_cm = 0.005;             // kg m^2 about a transverse axis through the centre of mass
+  Eigen::Vector3d offset_b{0.0, 0.0, 0.1};  // pivot to centre of mass, m
   Eigen::Vector3d gravity_n{0.0, 0.0, -9.81};
   Eigen::Vector3d omega0_b{0.5, -0.3, 15.0};  // a fast top, tilted and nutating
   Attitude initial = Attitude::from_set1(0.3, 0.6, 0.2);
@@ -206,7 +209,8 @@ HeavyTopRun run_heavy_top(const HeavyTop& top, double dt, double t_end) {
   const auto steps = static_cast<int>(std::lround(t_end / dt));
   for (int i = 0; i < steps; ++i) {
     body.advance(i * dt, dt, pivot_torque);
-    for (int k = 0; k < 10; ++k) attitude::quaternion_spin_step(reference, inertia, i * dt + k * fine, fine, reference_torque);
+    for (int k = 0; k < 10; ++k)
+      attitude::quaternion_spin_step(reference, inertia, i * dt + k * fine, fine, reference_torque);
     const Eigen::Matrix3d r = body.body_to_inertial();
     const Eigen::Vector3d& omega = body.state().angular_velocity_b_si;
     raise_to(run.attitude_error, max_abs_difference(r, reference.orientation.toRotationMatrix()));
@@ -223,10 +227,11 @@ TEST(RigidBodyRotation, HeavySymmetricTopMatchesFineQuaternionReference) {
   const HeavyTopRun run = run_heavy_top(top, 5e-4, 5.0);
   const HeavyTopRun coarse = run_heavy_top(top, 1e-3, 5.0);
   const double order = std::log2(coarse.attitude_error / run.attitude_error);
-  std::printf("[measured] heavy top, dt=5e-4, t=5: attitude vs reference %.3g (dt=1e-3: %.3g, order %.3f), "
-              "energy drift %.3g, vertical L drift %.3g, axial L drift %.3g, switches %ld\n",
-              run.attitude_error, coarse.attitude_error, order, run.energy_drift, run.vertical_drift,
-              run.axial_drift, run.switches);
+  std::printf(
+      "[measured] heavy top, dt=5e-4, t=5: attitude vs reference %.3g (dt=1e-3: %.3g, order %.3f), "
+      "energy drift %.3g, vertical L drift %.3g, axial L drift %.3g, switches %ld\n",
+      run.attitude_error, coarse.attitude_error, order, run.energy_drift, run.vertical_drift, run.axial_drift,
+      run.switches);
   // The top precesses round the vertical with its axis tilted by ~0.6 rad: the pitch leaves
   // the set-1 band, so both charts are used.
   EXPECT_GE(run.switches, 2);
@@ -284,8 +289,8 @@ TEST(RigidBodyCorrector, SpinUpFromGenericAttitudeIsFourthOrder) {
   const auto [coarse, omega_coarse] = spin_up_errors(start, 0.04);
   const auto [fine, omega_fine] = spin_up_errors(start, 0.02);
   const double order = std::log2(coarse / fine);
-  std::printf("[measured] corrector spin-up: attitude errors %.3g %.3g (order %.3f), omega errors %.3g %.3g\n",
-              coarse, fine, order, omega_coarse, omega_fine);
+  std::printf("[measured] corrector spin-up: attitude errors %.3g %.3g (order %.3f), omega errors %.3g %.3g\n", coarse,
+              fine, order, omega_coarse, omega_fine);
   EXPECT_GT(order, 3.8);
   EXPECT_LT(order, 4.2);
   // The body rate's only error comes from the predicted attitude used to bring the torque
@@ -349,14 +354,15 @@ TEST(RigidBodyMotionKinds, TowedMovesAtPrescribedVelocities) {
   EXPECT_EQ(body.state().attitude.angles(), kinematics.angles());
   // ...which follows the closed form to RK4 accuracy: (|omega| dt)^4 t |omega| ~ 3e-9 times
   // RK4's small constant (measured 8e-12); 1e-10 is the bound used for RK4 rotations.
-  EXPECT_LT(max_abs_difference(body.body_to_inertial(), start.body_to_inertial() * rotation_about(omega_b, 0.8)), 1e-10);
+  EXPECT_LT(max_abs_difference(body.body_to_inertial(), start.body_to_inertial() * rotation_about(omega_b, 0.8)),
+            1e-10);
 }
 
 TEST(RigidBodyMotionKinds, FixedBodyDoesNotMove) {
   const RigidBodyState initial{Eigen::Vector3d(1.0, 2.0, 3.0), Eigen::Vector3d(1.0, 0.0, 0.0),
                                Attitude::from_set1(0.5, 0.1, 0.0), Eigen::Vector3d(0.0, 1.0, 0.0)};
-  RigidBody body(mass_properties(1.0, 1.0, Eigen::Matrix3d::Identity()), Environment{0.0, Eigen::Vector3d(0.0, 0.0, -9.81)},
-                 initial, MotionKind::fixed);
+  RigidBody body(mass_properties(1.0, 1.0, Eigen::Matrix3d::Identity()),
+                 Environment{0.0, Eigen::Vector3d(0.0, 0.0, -9.81)}, initial, MotionKind::fixed);
   EXPECT_EQ(body.state().velocity_si, Eigen::Vector3d::Zero());
   EXPECT_EQ(body.state().angular_velocity_b_si, Eigen::Vector3d::Zero());
   body.correct(0.1, Wrench{Eigen::Vector3d(1.0, 1.0, 1.0), Eigen::Vector3d(1.0, 1.0, 1.0)});
@@ -440,7 +446,8 @@ TEST(RigidBodyVirtualInertia, LeavesASteadyAccelerationUnchanged) {
   EXPECT_LT((stabilised.state().angular_velocity_b_si - plain.state().angular_velocity_b_si).norm(), 1e-13);
   EXPECT_LT((stabilised.state().attitude.angles() - plain.state().attitude.angles()).norm(), 1e-12);
   // And the plain motion is the closed form: a constant acceleration and a constant body rate change.
-  EXPECT_LT((stabilised.state().velocity_si - (Eigen::Vector3d(0.5, 0.0, -1.0) + 0.5 * c.acceleration())).norm(), 1e-13);
+  EXPECT_LT((stabilised.state().velocity_si - (Eigen::Vector3d(0.5, 0.0, -1.0) + 0.5 * c.acceleration())).norm(),
+            1e-13);
   EXPECT_LT((stabilised.state().angular_velocity_b_si - 0.5 * c.angular_acceleration_b()).norm(), 1e-13);
 }
 

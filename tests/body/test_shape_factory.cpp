@@ -95,22 +95,39 @@ INSTANTIATE_TEST_SUITE_P(
         BadSpec{"missing_diameter", spec_of("sphere"), "particle.diameter: required for shape 'sphere'"},
         BadSpec{"negative_diameter", with(spec_of("sphere"), [](ShapeSpec& s) { s.diameter = -1.0; }),
                 "particle.diameter: must be finite and > 0, got -1"},
-        BadSpec{"nan_length", with(spec_of("cylinder"), [](ShapeSpec& s) { s.diameter = 1.0, s.length = std::nan(""); }),
+        BadSpec{"nan_length",
+                with(spec_of("cylinder"), [](ShapeSpec& s) { s.diameter = 1.0, s.length = std::nan(""); }),
                 "particle.length: must be finite and > 0, got nan"},
-        BadSpec{"unused_key", with(spec_of("cylinder"), [](ShapeSpec& s) { s.diameter = 1.0, s.length = 1.0, s.aspect_ratio = 2.0; }),
+        BadSpec{"unused_key",
+                with(spec_of("cylinder"), [](ShapeSpec& s) { s.diameter = 1.0, s.length = 1.0, s.aspect_ratio = 2.0; }),
                 "particle.aspect_ratio: not used by shape 'cylinder' (it takes particle.diameter, particle.length)"},
-        BadSpec{"extreme_aspect", with(spec_of("spheroid"), [](ShapeSpec& s) { s.diameter = 1.0, s.aspect_ratio = 1e4; }),
+        BadSpec{"extreme_aspect",
+                with(spec_of("spheroid"), [](ShapeSpec& s) { s.diameter = 1.0, s.aspect_ratio = 1e4; }),
                 "particle.aspect_ratio: the ratio of polar to equatorial diameter must lie in [0.001, 1000]"},
-        BadSpec{"flat_semi_axes", with(spec_of("ellipsoid"), [](ShapeSpec& s) { s.semi_axes = std::array<double, 3>{1.0, 1.0, 1e-5}; }),
+        BadSpec{"flat_semi_axes",
+                with(spec_of("ellipsoid"),
+                     [](ShapeSpec& s) {
+                       s.semi_axes = std::array<double, 3>{1.0, 1.0, 1e-5};
+                     }),
                 "particle.semi_axes: the ratio of the largest to the smallest value must lie in"},
-        BadSpec{"zero_size", with(spec_of("cuboid"), [](ShapeSpec& s) { s.size = std::array<double, 3>{1.0, 0.0, 1.0}; }),
+        BadSpec{"zero_size",
+                with(spec_of("cuboid"),
+                     [](ShapeSpec& s) {
+                       s.size = std::array<double, 3>{1.0, 0.0, 1.0};
+                     }),
                 "particle.size (value 2 of 3): must be finite and > 0, got 0"},
-        BadSpec{"exponent_range", with(spec_of("superellipsoid"), [](ShapeSpec& s) {
-                  s.semi_axes = std::array<double, 3>{1.0, 1.0, 1.0};
-                  s.exponents = std::array<double, 2>{1.0, 3.0};
-                }),
+        BadSpec{"exponent_range",
+                with(spec_of("superellipsoid"),
+                     [](ShapeSpec& s) {
+                       s.semi_axes = std::array<double, 3>{1.0, 1.0, 1.0};
+                       s.exponents = std::array<double, 2>{1.0, 3.0};
+                     }),
                 "particle.exponents: e2 must lie in [0.1, 2] (convex superellipsoids), got 3"},
-        BadSpec{"missing_exponents", with(spec_of("superellipsoid"), [](ShapeSpec& s) { s.semi_axes = std::array<double, 3>{1.0, 1.0, 1.0}; }),
+        BadSpec{"missing_exponents",
+                with(spec_of("superellipsoid"),
+                     [](ShapeSpec& s) {
+                       s.semi_axes = std::array<double, 3>{1.0, 1.0, 1.0};
+                     }),
                 "particle.exponents: required for shape 'superellipsoid'"},
         BadSpec{"missing_file", spec_of("mesh"), "particle.file: required for shape 'mesh'"},
         BadSpec{"bad_scale", with(spec_of("mesh"), [](ShapeSpec& s) { s.file = "x.stl", s.scale = 0.0; }),

@@ -17,7 +17,9 @@
 namespace settle::body {
 namespace test_stl {
 
-std::filesystem::path data(const std::string& name) { return std::filesystem::path(SETTLE_SOURCE_DIR) / "tests/data" / name; }
+std::filesystem::path data(const std::string& name) {
+  return std::filesystem::path(SETTLE_SOURCE_DIR) / "tests/data" / name;
+}
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -134,8 +136,7 @@ void expect_graceful(const std::string& bytes) {
   try {
     TriangleMesh mesh = parse_stl(bytes, "fuzz");
     MeshShape shape(std::move(mesh), "fuzz");
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
 }
 
 TEST(Stl, RandomBytesNeverCrash) {
@@ -162,10 +163,18 @@ TEST(Stl, MutatedFilesNeverCrash) {
       for (int e = 0; e < edits && !bytes.empty(); ++e) {
         const std::size_t at = rng() % bytes.size();
         switch (rng() % 4) {
-          case 0: bytes[at] = static_cast<char>(rng() & 0xFF); break;
-          case 1: bytes.erase(at, 1 + rng() % 8); break;
-          case 2: bytes.insert(at, 1, static_cast<char>("0123456789.-e \nvertxfacetnormal"[rng() % 31])); break;
-          default: bytes.resize(at); break;
+          case 0:
+            bytes[at] = static_cast<char>(rng() & 0xFF);
+            break;
+          case 1:
+            bytes.erase(at, 1 + rng() % 8);
+            break;
+          case 2:
+            bytes.insert(at, 1, static_cast<char>("0123456789.-e \nvertxfacetnormal"[rng() % 31]));
+            break;
+          default:
+            bytes.resize(at);
+            break;
         }
       }
       EXPECT_NO_FATAL_FAILURE(expect_graceful(bytes));

@@ -82,7 +82,8 @@ TEST(Superellipsoid, ExponentTwoGivesTheOctahedron) {
   EXPECT_LT(relative(second(2, 2), 2.0 / 15.0 * a * b * c * c * c), kClosedForm);
   EXPECT_NEAR(s.bounding_radius(), 1.0, kClosedForm);
   const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
-  EXPECT_NEAR(s.support(n), std::max({a * 0.3, b * 0.5, c * 0.8}) / Eigen::Vector3d(0.3, -0.5, 0.8).norm(), kClosedForm);
+  EXPECT_NEAR(s.support(n), std::max({a * 0.3, b * 0.5, c * 0.8}) / Eigen::Vector3d(0.3, -0.5, 0.8).norm(),
+              kClosedForm);
   // Shadow along z: the rhombus of diagonals 2a and 2b.
   EXPECT_NEAR(s.projected_area(Eigen::Vector3d::UnitZ()), 2.0 * a * b, kClosedForm);
 }
@@ -113,11 +114,11 @@ TEST_P(SuperellipsoidExponents, MomentsAndAreaMatchInscribedPolyhedra) {
   for (int cells : {64, 128, 256}) {
     const TriangleMesh mesh = cube_sphere_mesh({cells, cells, cells}, radial);
     const VolumeMoments m = polyhedron_moments(mesh);
-    const double error = std::max({relative(m.volume, exact.volume),
-                                   relative(m.second_moment(0, 0), exact.second_moment(0, 0)),
-                                   relative(m.second_moment(1, 1), exact.second_moment(1, 1)),
-                                   relative(m.second_moment(2, 2), exact.second_moment(2, 2)),
-                                   relative(mesh_surface_area(mesh), s.surface_area())});
+    const double error =
+        std::max({relative(m.volume, exact.volume), relative(m.second_moment(0, 0), exact.second_moment(0, 0)),
+                  relative(m.second_moment(1, 1), exact.second_moment(1, 1)),
+                  relative(m.second_moment(2, 2), exact.second_moment(2, 2)),
+                  relative(mesh_surface_area(mesh), s.surface_area())});
     EXPECT_LT(m.centroid.norm(), 1e-14);
     errors.push_back(error);
   }
@@ -225,8 +226,8 @@ INSTANTIATE_TEST_SUITE_P(Shapes, SuperellipsoidExponents,
                          [](const auto& param_info) { return std::string(param_info.param.name); });
 
 TEST(Superellipsoid, ShapeFactorsUseExtents) {
-  const ShapeFactors f = compute_shape_factors(Superellipsoid(Eigen::Vector3d(1.0, 0.8, 0.6), 0.5, 0.3),
-                                               Eigen::Vector3d::UnitZ());
+  const ShapeFactors f =
+      compute_shape_factors(Superellipsoid(Eigen::Vector3d(1.0, 0.8, 0.6), 0.5, 0.3), Eigen::Vector3d::UnitZ());
   EXPECT_TRUE(f.principal_extents.isApprox(Eigen::Vector3d(2.0, 1.6, 1.2), kClosedForm));
   EXPECT_NEAR(f.corey_shape_factor, 1.2 / std::sqrt(2.0 * 1.6), kClosedForm);
 }

@@ -1,8 +1,8 @@
 // The checkpoint file format (common/checkpoint_file.hpp): CRC-32 against its published check values and
 // an independent bitwise implementation, exact round trip of sections, atomic replacement, and
 // refusal of every truncation and every single-bit corruption of a file.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -59,9 +59,8 @@ void write_all(const fs::path& file, std::span<const std::byte> data) {
 class CheckpointFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("settle_checkpoint_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("settle_checkpoint_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -196,7 +195,9 @@ TEST_F(CheckpointFileTest, EverySingleBitCorruptionIsRefused) {
   // Each flip is written in place (one byte, then restored), which keeps the 1500 trials fast.
   const int fd = ::open(file.c_str(), O_RDWR);
   ASSERT_GE(fd, 0);
-  const auto put = [&](std::size_t at, std::byte value) { ASSERT_EQ(::pwrite(fd, &value, 1, static_cast<off_t>(at)), 1); };
+  const auto put = [&](std::size_t at, std::byte value) {
+    ASSERT_EQ(::pwrite(fd, &value, 1, static_cast<off_t>(at)), 1);
+  };
   // CRC-32 detects every single-bit error in the data it covers; the magic, the trailer and the
   // header fields are covered by their own checks, so no flip anywhere may pass.
   for (std::size_t byte = 0; byte < whole.size(); ++byte) {

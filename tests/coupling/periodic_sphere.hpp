@@ -26,11 +26,11 @@ namespace settle::coupling::testing {
 /// Sangani and Acrivos 1982 series for the simple cubic array, K = sum_s q_s chi^s with
 /// chi = d / L (reference-data.json, periodic_sphere_array_SC.SanganiAcrivos1982_SC_series).
 inline double sangani_acrivos_k(double chi) {
-  static constexpr std::array<double, 31> q{
-      1.0,       1.418649,  2.012564,  2.331523,   2.564809,  2.584787,  2.873609,  3.340163,
-      3.536763,  3.504092,  3.253622,  2.689757,   2.037769,  1.809341,  1.877347,  1.534685,
-      0.9034708, 0.2857896, -0.5512626, -1.278724, 1.01335,   5.492491,  4.615388,  -0.5736023,
-      -2.865924, -4.709215, -6.870076, 0.1455304,  12.51891,  9.742811,  -5.566269};
+  static constexpr std::array<double, 31> q{1.0,      1.418649, 2.012564,   2.331523,  2.564809,   2.584787,  2.873609,
+                                            3.340163, 3.536763, 3.504092,   3.253622,  2.689757,   2.037769,  1.809341,
+                                            1.877347, 1.534685, 0.9034708,  0.2857896, -0.5512626, -1.278724, 1.01335,
+                                            5.492491, 4.615388, -0.5736023, -2.865924, -4.709215,  -6.870076, 0.1455304,
+                                            12.51891, 9.742811, -5.566269};
   double k = 0.0, power = 1.0;
   for (double qs : q) {
     k += qs * power;
@@ -43,10 +43,10 @@ struct PeriodicSphereResult {
   double k = 0.0;            ///< F / (6 pi mu a U), U the superficial velocity
   double k_reference = 0.0;  ///< Sangani-Acrivos at chi = d / L
   double solid_fraction = 0.0;
-  double reynolds = 0.0;     ///< U d / nu
+  double reynolds = 0.0;              ///< U d / nu
   double last_relative_change = 0.0;  ///< of K over the last check interval (steady state)
   std::int64_t steps = 0;
-  double slip_max = 0.0;     ///< largest marker slip after forcing / U
+  double slip_max = 0.0;  ///< largest marker slip after forcing / U
 };
 
 struct PeriodicSphereOptions {
@@ -141,9 +141,9 @@ inline PeriodicSphereResult run_periodic_sphere(const PeriodicSphereOptions& o) 
 /// markers carry omega x r), fluid initially at rest. Creeping flow: Omega a = 1e-4 in lattice
 /// units (Re = Omega a^2 / nu ~ 5e-3 at d = 16).
 struct RotatingSphereResult {
-  double torque_ratio = 0.0;  ///< -T_z / (8 pi mu a^3 Omega): 1 for the unbounded Stokes sphere
-  double volume_fraction = 0.0;  ///< pi d^3 / (6 L^3)
-  double reynolds = 0.0;         ///< Omega a^2 / nu
+  double torque_ratio = 0.0;          ///< -T_z / (8 pi mu a^3 Omega): 1 for the unbounded Stokes sphere
+  double volume_fraction = 0.0;       ///< pi d^3 / (6 L^3)
+  double reynolds = 0.0;              ///< Omega a^2 / nu
   double last_relative_change = 0.0;  ///< of the ratio over the last check interval
   std::int64_t steps = 0;
 };

@@ -38,8 +38,9 @@ inline double spheroid_stokes_k(double gamma, DragDirection direction) {
     const double a = gamma;  // polar semi-axis
     const double e = std::sqrt(1.0 - 1.0 / (gamma * gamma));
     const double l = std::log((1.0 + e) / (1.0 - e));
-    force_over_mu_u = direction == DragDirection::axial ? 16.0 * pi * a * e * e * e / ((1.0 + e * e) * l - 2.0 * e)
-                                                        : 32.0 * pi * a * e * e * e / (2.0 * e + (3.0 * e * e - 1.0) * l);
+    force_over_mu_u = direction == DragDirection::axial
+                          ? 16.0 * pi * a * e * e * e / ((1.0 + e * e) * l - 2.0 * e)
+                          : 32.0 * pi * a * e * e * e / (2.0 * e + (3.0 * e * e - 1.0) * l);
   } else {
     const double a = 1.0;  // equatorial semi-axis
     const double e = std::sqrt(1.0 - gamma * gamma);
@@ -52,12 +53,12 @@ inline double spheroid_stokes_k(double gamma, DragDirection direction) {
 }
 
 struct PeriodicSpheroidResult {
-  double k = 0.0;         ///< F / (6 pi mu r_v U) in the periodic box
-  double chi = 0.0;       ///< d_v / L
-  double reynolds = 0.0;  ///< U d_v / nu
-  double lateral_force_ratio = 0.0;  ///< |F normal to the drive| / |F along it|
-  double slip_max = 0.0;  ///< largest marker slip after forcing / U
-  double slip_rms = 0.0;  ///< rms marker slip after forcing / U
+  double k = 0.0;                     ///< F / (6 pi mu r_v U) in the periodic box
+  double chi = 0.0;                   ///< d_v / L
+  double reynolds = 0.0;              ///< U d_v / nu
+  double lateral_force_ratio = 0.0;   ///< |F normal to the drive| / |F along it|
+  double slip_max = 0.0;              ///< largest marker slip after forcing / U
+  double slip_rms = 0.0;              ///< rms marker slip after forcing / U
   double last_relative_change = 0.0;  ///< estimated relative error of K left by the transient
   std::int64_t steps = 0;
 };
@@ -154,10 +155,11 @@ inline const char* direction_name(DragDirection d) { return d == DragDirection::
 inline PeriodicSpheroidResult run_periodic_spheroid_printed(double gamma, DragDirection direction,
                                                             double cells_per_diameter, int box_cells) {
   const PeriodicSpheroidResult r = run_periodic_spheroid(gamma, direction, cells_per_diameter, box_cells);
-  std::printf("gamma = %g %s, d_v = %g cells, L = %d: K = %.4f, Re = %.1e, lateral %.1e, slip max %.4f U rms %.4f U, "
-              "transient left %.1e, %lld steps\n",
-              gamma, direction_name(direction), cells_per_diameter, box_cells, r.k, r.reynolds, r.lateral_force_ratio,
-              r.slip_max, r.slip_rms, r.last_relative_change, static_cast<long long>(r.steps));
+  std::printf(
+      "gamma = %g %s, d_v = %g cells, L = %d: K = %.4f, Re = %.1e, lateral %.1e, slip max %.4f U rms %.4f U, "
+      "transient left %.1e, %lld steps\n",
+      gamma, direction_name(direction), cells_per_diameter, box_cells, r.k, r.reynolds, r.lateral_force_ratio,
+      r.slip_max, r.slip_rms, r.last_relative_change, static_cast<long long>(r.steps));
   std::fflush(stdout);
   return r;
 }

@@ -2,8 +2,8 @@
 // hook and continuation (coupling/runner.hpp) on a small fixed sphere in a periodic box.
 #include <unistd.h>
 
-#include <bit>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -31,7 +31,7 @@ SimulationSetup small_setup() {
   o.box_cells = 16;
   SimulationSetup s = periodic_sphere_setup(o);
   s.body_force_si = Eigen::Vector3d(1e-6, 0.0, 0.0);
-  s.end_time_si = 40.0;  // steps (dt = 1)
+  s.end_time_si = 40.0;        // steps (dt = 1)
   s.output_interval_si = 4.0;  // even steps: where set_cell_populations may write
   return s;
 }
@@ -147,7 +147,7 @@ TEST(Runner, ExtremesAreTheLargestValuesTheHealthCheckMet) {
   int samples = 0;
   callbacks.on_sample = [&](const Sample&) {
     if (++samples == 3) plant_density(sim, 1.05);  // at step 8: even, where populations may be set
-    const HealthReport h = check_health(sim);  // what the runner checks next, at the same state
+    const HealthReport h = check_health(sim);      // what the runner checks next, at the same state
     seen.density_deviation =
         std::max({seen.density_deviation, std::abs(h.min_density - 1.0), std::abs(h.max_density - 1.0)});
     seen.lattice_speed = std::max(seen.lattice_speed, h.max_lattice_speed);
@@ -163,7 +163,9 @@ TEST(Runner, ExtremesAreTheLargestValuesTheHealthCheckMet) {
 TEST(Runner, StopAfterSampleEndsTheRunWithItsReason) {
   Simulation sim(small_setup());
   RunCallbacks callbacks;
-  callbacks.stop_after_sample = [](const Sample& s) { return s.t_si >= 8.0 ? std::string("terminal_state") : std::string(); };
+  callbacks.stop_after_sample = [](const Sample& s) {
+    return s.t_si >= 8.0 ? std::string("terminal_state") : std::string();
+  };
   const RunResult r = run(sim, callbacks);
   EXPECT_EQ(r.stop_reason, "terminal_state");
   EXPECT_EQ(r.steps, 8);
@@ -196,7 +198,7 @@ TEST(Runner, CheckpointIsDueAtEachIntervalWithTheLoopState) {
   ASSERT_EQ(states[0].samples.size(), 3u);
   EXPECT_DOUBLE_EQ(states[0].samples.back().t_si, 8.0);
   EXPECT_EQ(states[3].samples.size(), r.samples.size());  // step 40 is sampled before its checkpoint
-  EXPECT_EQ(r.samples.size(), 11u);  // the samples lent to the callback came back
+  EXPECT_EQ(r.samples.size(), 11u);                       // the samples lent to the callback came back
 }
 
 // A wall-clock interval: a checkpoint once that much wall time has passed since the last one.
@@ -271,9 +273,11 @@ TEST(Runner, ContinuedRunEqualsTheUninterruptedRun) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(a.t_si), std::bit_cast<std::uint64_t>(b.t_si)) << i;
     for (int k = 0; k < 3; ++k) {
       EXPECT_EQ(std::bit_cast<std::uint64_t>(a.hydrodynamic.force_si[k]),
-                std::bit_cast<std::uint64_t>(b.hydrodynamic.force_si[k])) << i;
+                std::bit_cast<std::uint64_t>(b.hydrodynamic.force_si[k]))
+          << i;
       EXPECT_EQ(std::bit_cast<std::uint64_t>(a.relative_flow_si[k]),
-                std::bit_cast<std::uint64_t>(b.relative_flow_si[k])) << i;
+                std::bit_cast<std::uint64_t>(b.relative_flow_si[k]))
+          << i;
     }
     EXPECT_EQ(std::bit_cast<std::uint64_t>(a.slip_max_si), std::bit_cast<std::uint64_t>(b.slip_max_si)) << i;
   }

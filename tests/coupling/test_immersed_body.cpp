@@ -8,8 +8,8 @@
 
 #include <omp.h>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "body/shape_factory.hpp"
 #include "coupling/immersed_body.hpp"
@@ -91,8 +91,7 @@ TEST(Markers, InteriorLatticeFillsTheBodyOneCellBelowTheSurfaceMarkers) {
   const BodyMarkers markers = make_body_markers(*shape, dx, 0.4, true);
   ASSERT_GT(markers.size(), surface_only.size());
   // The surface markers come first and are unchanged.
-  for (std::size_t l = 0; l < surface_only.size(); ++l)
-    EXPECT_EQ(markers.offset_b[l], surface_only.offset_b[l]);
+  for (std::size_t l = 0; l < surface_only.size(); ++l) EXPECT_EQ(markers.offset_b[l], surface_only.offset_b[l]);
   // Interior markers: integer offsets of unit volume, none closer than r_d + 1 = 1.4 cells to the
   // surface (radius 8), that is |p| <= 6.6.
   std::size_t interior = 0;

@@ -38,7 +38,7 @@ namespace test_light_body {
 using namespace settle;
 using namespace settle::coupling;
 
-constexpr double kWaterDensity = 998.2;      // kg/m^3, 20 C (cases/cube.toml)
+constexpr double kWaterDensity = 998.2;       // kg/m^3, 20 C (cases/cube.toml)
 constexpr double kWaterViscosity = 1.002e-3;  // Pa s
 constexpr double kGravity = 9.81;             // m/s^2
 
@@ -58,7 +58,8 @@ std::shared_ptr<const body::Shape> sphere_shape(double diameter) {
 
 /// A body falling from rest in water, 8 cells per d_eq, the window following it: free-slip sides
 /// 2 d_eq from its axis, 3 d_eq of water ahead and 4 behind.
-SimulationSetup falling(std::shared_ptr<const body::Shape> shape, double density_ratio, const attitude::Attitude& start) {
+SimulationSetup falling(std::shared_ptr<const body::Shape> shape, double density_ratio,
+                        const attitude::Attitude& start) {
   SimulationSetup s;
   s.shape = std::move(shape);
   s.particle_density_si = density_ratio * kWaterDensity;
@@ -81,9 +82,9 @@ struct Fall {
   bool finite = true;
   bool left_grid = false;
   std::int64_t steps = 0;
-  double max_energy_ratio = 0.0;      ///< largest (kinetic energy of the body) / (work of the net weight)
-  double max_rotation_ratio = 0.0;    ///< largest (rotational energy) / (work of the net weight)
-  double max_angular_speed_si = 0.0;  ///< rad/s
+  double max_energy_ratio = 0.0;          ///< largest (kinetic energy of the body) / (work of the net weight)
+  double max_rotation_ratio = 0.0;        ///< largest (rotational energy) / (work of the net weight)
+  double max_angular_speed_si = 0.0;      ///< rad/s
   std::vector<double> vertical_speed_si;  ///< sinking speed after each step
 };
 
@@ -137,14 +138,17 @@ void cube_stays_bounded(double density_ratio) {
   Simulation sim(falling(acrylic_cube_shape(), density_ratio, attitude::Attitude::from_set1(0.3, 0.5, 0.2)));
   constexpr double kDuration = 0.1;  // s: 0.1 s of fall, about 600 steps at rho ratio 1.19
   const Fall f = fall_for(sim, kDuration);
-  std::printf("[measured] cube rho_p/rho_f = %.2f, 8 cells: %lld steps, max E_kin/W = %.4f, max E_rot/W = %.3g, "
-              "max |omega| = %.3g rad/s, sinking at %.4g m/s\n",
-              density_ratio, static_cast<long long>(f.steps), f.max_energy_ratio, f.max_rotation_ratio,
-              f.max_angular_speed_si, f.vertical_speed_si.empty() ? 0.0 : f.vertical_speed_si.back());
+  std::printf(
+      "[measured] cube rho_p/rho_f = %.2f, 8 cells: %lld steps, max E_kin/W = %.4f, max E_rot/W = %.3g, "
+      "max |omega| = %.3g rad/s, sinking at %.4g m/s\n",
+      density_ratio, static_cast<long long>(f.steps), f.max_energy_ratio, f.max_rotation_ratio, f.max_angular_speed_si,
+      f.vertical_speed_si.empty() ? 0.0 : f.vertical_speed_si.back());
   expect_bounded_by_the_work_of_the_net_weight(f, kDuration, sim.units().dt_si());
 }
 
-TEST(CouplingLightBody, AcrylicCubeAt8CellsStaysBoundedOverTheFirstTenthOfASecond) { cube_stays_bounded(1190.0 / kWaterDensity); }
+TEST(CouplingLightBody, AcrylicCubeAt8CellsStaysBoundedOverTheFirstTenthOfASecond) {
+  cube_stays_bounded(1190.0 / kWaterDensity);
+}
 
 TEST(CouplingLightBody, CubeOnly5PercentDenserThanWaterAt8CellsStaysBounded) { cube_stays_bounded(1.05); }
 
@@ -171,7 +175,8 @@ double bbo_speed_si(double t_si, double particle_density, double diameter) {
     const double middle = (k + 0.5) * h;
     double history = 0.0;
     for (int j = 0; j < k; ++j)
-      history += acceleration[static_cast<std::size_t>(j)] * 2.0 * (std::sqrt(middle - j * h) - std::sqrt(middle - (j + 1) * h));
+      history += acceleration[static_cast<std::size_t>(j)] * 2.0 *
+                 (std::sqrt(middle - j * h) - std::sqrt(middle - (j + 1) * h));
     const double ak = (a - b * v - c * history) / (1.0 + c * 2.0 * std::sqrt(0.5 * h) + 0.5 * b * h);
     acceleration.push_back(ak);
     v += ak * h;
@@ -210,11 +215,12 @@ TEST(CouplingLightBody, SphereReleasedFromRestTakesTheAddedMassAccelerationAndSt
   const double t = static_cast<double>(window) * dt;
   const double speed = f.vertical_speed_si[window - 1];
   const double reference = bbo_speed_si(t, density, kDiameter);
-  std::printf("[measured] sphere rho_p/rho_f = 1.05, 8 cells: first step a / a_added_mass = %.6f; after %zu steps "
-              "(%.3g s) v / (a_added_mass t) = %.3f, v_BBO / (a_added_mass t) = %.3f, v / v_BBO = %.3f; "
-              "max E_kin/W = %.3f\n",
-              f.vertical_speed_si[0] / dt / added_mass_acceleration, window, t, speed / (added_mass_acceleration * t),
-              reference / (added_mass_acceleration * t), speed / reference, f.max_energy_ratio);
+  std::printf(
+      "[measured] sphere rho_p/rho_f = 1.05, 8 cells: first step a / a_added_mass = %.6f; after %zu steps "
+      "(%.3g s) v / (a_added_mass t) = %.3f, v_BBO / (a_added_mass t) = %.3f, v / v_BBO = %.3f; "
+      "max E_kin/W = %.3f\n",
+      f.vertical_speed_si[0] / dt / added_mass_acceleration, window, t, speed / (added_mass_acceleration * t),
+      reference / (added_mass_acceleration * t), speed / reference, f.max_energy_ratio);
   EXPECT_NEAR(speed / reference, 1.0, 0.15);
   // Past the acoustic time the history force and the drag only slow the sphere: its mean
   // acceleration is below the added-mass value (0.77 of it in the BBO solution at this time).

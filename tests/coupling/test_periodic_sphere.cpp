@@ -25,9 +25,11 @@ void check(int box_cells, bool interior_markers = false) {
   o.retraction = settle::coupling::calibrated_marker_retraction_cells(interior_markers);
   o.steady_tolerance = 1e-5;
   const PeriodicSphereResult r = run_periodic_sphere(o);
-  std::printf("d = 16 cells, L = %d, interior markers %d: phi = %.4f, K = %.4f, Sangani-Acrivos %.4f (%+.2f%%), Re = %.1e, %lld steps\n",
-              box_cells, int(interior_markers), r.solid_fraction, r.k, r.k_reference, 100.0 * (r.k / r.k_reference - 1.0), r.reynolds,
-              static_cast<long long>(r.steps));
+  std::printf(
+      "d = 16 cells, L = %d, interior markers %d: phi = %.4f, K = %.4f, Sangani-Acrivos %.4f (%+.2f%%), Re = %.1e, "
+      "%lld steps\n",
+      box_cells, int(interior_markers), r.solid_fraction, r.k, r.k_reference, 100.0 * (r.k / r.k_reference - 1.0),
+      r.reynolds, static_cast<long long>(r.steps));
   // Creeping flow: Re << 1 (inertia changes K by O(Re) ~ 1e-2 of a percent here).
   EXPECT_LT(r.reynolds, 0.01);
   // Steady: K changed by less than 1e-5 over the last tenth of the slowest viscous decay time,
@@ -57,10 +59,11 @@ double momentum_exchange_k_error(int box_cells, settle::lbm::WallRule rule) {
   o.wall_rule = rule;
   o.steady_tolerance = 1e-5;
   const PeriodicSphereResult r = run_periodic_sphere(o);
-  std::printf("momentum exchange (%s), d = 16 cells, L = %d: phi = %.4f, K = %.4f, Sangani-Acrivos %.4f (%+.2f%%), "
-              "Re = %.1e, %lld steps\n",
-              rule == settle::lbm::WallRule::bouzidi ? "bouzidi" : "halfway", box_cells, r.solid_fraction, r.k,
-              r.k_reference, 100.0 * (r.k / r.k_reference - 1.0), r.reynolds, static_cast<long long>(r.steps));
+  std::printf(
+      "momentum exchange (%s), d = 16 cells, L = %d: phi = %.4f, K = %.4f, Sangani-Acrivos %.4f (%+.2f%%), "
+      "Re = %.1e, %lld steps\n",
+      rule == settle::lbm::WallRule::bouzidi ? "bouzidi" : "halfway", box_cells, r.solid_fraction, r.k, r.k_reference,
+      100.0 * (r.k / r.k_reference - 1.0), r.reynolds, static_cast<long long>(r.steps));
   EXPECT_LT(r.reynolds, 0.01);
   EXPECT_LT(r.last_relative_change, 1e-5);
   return r.k / r.k_reference - 1.0;

@@ -35,8 +35,8 @@ SimulationSetup sphere_moving_down(body::MotionKind motion) {
   s.cells_per_diameter = 8.0;
   s.initial.position_si = Eigen::Vector3d(2.0, 2.0, 3.0) * kDiameter;
   s.motion = motion;
-  const double terminal = estimated_terminal_speed_si(kDiameter, s.particle_density_si, s.fluid_density_si,
-                                                      s.dynamic_viscosity_si, 9.81);
+  const double terminal =
+      estimated_terminal_speed_si(kDiameter, s.particle_density_si, s.fluid_density_si, s.dynamic_viscosity_si, 9.81);
   s.initial.velocity_si = Eigen::Vector3d(0.0, 0.0, -1.5 * terminal);
   s.end_time_si = 1.0;
   return s;

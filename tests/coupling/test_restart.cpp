@@ -110,7 +110,8 @@ void expect_identical(const Simulation& a, const Simulation& b) {
       << "population buffers differ";
   EXPECT_EQ(fa.forced_cells, fb.forced_cells);
   ASSERT_EQ(fa.forced_values.size(), fb.forced_values.size());
-  for (std::size_t k = 0; k < fa.forced_values.size(); ++k) ASSERT_EQ(bits(fa.forced_values[k]), bits(fb.forced_values[k]));
+  for (std::size_t k = 0; k < fa.forced_values.size(); ++k)
+    ASSERT_EQ(bits(fa.forced_values[k]), bits(fb.forced_values[k]));
   // A few cells through the public queries (density and velocity include the cell's force).
   const int nx = a.fluid().nx(), ny = a.fluid().ny(), nz = a.fluid().nz();
   for (const auto& c : {std::array{0, 0, 0}, std::array{nx / 2, ny / 2, nz / 2}, std::array{5, ny - 7, nz - 7},
@@ -317,7 +318,8 @@ TEST_F(RestartTest, CallerDataComesBackUnchanged) {
   const SimulationCheckpoint checkpoint(dir_ / "checkpoint.bin");
   EXPECT_EQ(checkpoint.caller().resolved_case, caller.resolved_case);
   ASSERT_EQ(checkpoint.caller().values.size(), caller.values.size());
-  for (const auto& [name, value] : caller.values) EXPECT_EQ(bits(checkpoint.caller().values.at(name)), bits(value)) << name;
+  for (const auto& [name, value] : caller.values)
+    EXPECT_EQ(bits(checkpoint.caller().values.at(name)), bits(value)) << name;
   EXPECT_EQ(checkpoint.caller().blobs, caller.blobs);
   EXPECT_EQ(checkpoint.steps(), 0);
   EXPECT_FALSE(checkpoint.written_by().empty());

@@ -14,8 +14,8 @@
 
 #include <omp.h>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
@@ -141,14 +141,15 @@ void expect_resting_on_the_floor(const Settling& r, const ContactNumbers& c) {
 }
 
 void print(const char* name, const Settling& r, const ContactNumbers& c) {
-  std::printf("[measured] %s: %lld steps, min gap %.4f dx (zeta %.2f dx, overlap %.4f dx, bound %.4f dx), final gap "
-              "%.6f dx (zeta - W/k %.6f dx), last quarter: mean contact force / W %.4f, max speed / run max %.2e, max "
-              "vertical speed / run max %.2e\n",
-              name, static_cast<long long>(r.steps), r.min_gap_si / c.dx_si, c.zeta_si / c.dx_si,
-              (c.zeta_si - r.min_gap_si) / c.dx_si,
-              body::max_overlap_bound(r.max_load_si, r.max_speed_si, c.stiffness_si, c.collision_time_si) / c.dx_si,
-              r.final_gap_si / c.dx_si, c.rest_gap_si() / c.dx_si, r.late_mean_contact_force_si / c.net_weight_si,
-              r.late_max_speed_si / r.max_speed_si, r.late_max_vertical_speed_si / r.max_speed_si);
+  std::printf(
+      "[measured] %s: %lld steps, min gap %.4f dx (zeta %.2f dx, overlap %.4f dx, bound %.4f dx), final gap "
+      "%.6f dx (zeta - W/k %.6f dx), last quarter: mean contact force / W %.4f, max speed / run max %.2e, max "
+      "vertical speed / run max %.2e\n",
+      name, static_cast<long long>(r.steps), r.min_gap_si / c.dx_si, c.zeta_si / c.dx_si,
+      (c.zeta_si - r.min_gap_si) / c.dx_si,
+      body::max_overlap_bound(r.max_load_si, r.max_speed_si, c.stiffness_si, c.collision_time_si) / c.dx_si,
+      r.final_gap_si / c.dx_si, c.rest_gap_si() / c.dx_si, r.late_mean_contact_force_si / c.net_weight_si,
+      r.late_max_speed_si / r.max_speed_si, r.late_max_vertical_speed_si / r.max_speed_si);
 }
 
 TEST(WallContact, SphereSettlesOntoTheBottomAndComesToRest) {

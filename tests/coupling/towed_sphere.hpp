@@ -35,19 +35,19 @@ struct TowedSphereOptions {
   double reynolds = 20.0;
   double cells_per_diameter = 12.0;
   double lattice_speed = 0.04;
-  double width_diameters = 7.0;   ///< side of the square cross-section
-  double ahead_diameters = 5.0;   ///< fluid ahead of the sphere's centre
-  double behind_diameters = 11.0; ///< wake room behind it
-  double travel_diameters = 30.0; ///< run length
+  double width_diameters = 7.0;    ///< side of the square cross-section
+  double ahead_diameters = 5.0;    ///< fluid ahead of the sphere's centre
+  double behind_diameters = 11.0;  ///< wake room behind it
+  double travel_diameters = 30.0;  ///< run length
   CouplingKind coupling = CouplingKind::immersed_boundary;
 };
 
 struct TowedSphereResult {
-  double drag_coefficient = 0.0;   ///< mean over the last fifth of the travel
-  double previous_fifth = 0.0;     ///< mean over the fifth before: the drift measures the transient
-  double reference = 0.0;          ///< Clift et al. at this Re
-  double lateral_ratio = 0.0;      ///< |lateral force| / drag, last fifth
-  double slip_max = 0.0;           ///< largest marker slip after forcing / U, last step
+  double drag_coefficient = 0.0;  ///< mean over the last fifth of the travel
+  double previous_fifth = 0.0;    ///< mean over the fifth before: the drift measures the transient
+  double reference = 0.0;         ///< Clift et al. at this Re
+  double lateral_ratio = 0.0;     ///< |lateral force| / drag, last fifth
+  double slip_max = 0.0;          ///< largest marker slip after forcing / U, last step
   double slip_rms = 0.0;
   std::int64_t steps = 0;
   std::array<int, 3> cells{};
@@ -111,11 +111,12 @@ inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
 
 inline TowedSphereResult run_towed_sphere_printed(const TowedSphereOptions& o) {
   const TowedSphereResult r = run_towed_sphere(o);
-  std::printf("%s, Re = %g, d = %g cells (%dx%dx%d, tau %.4f, %lld steps): C_D = %.4f (fifth before %.4f), "
-              "Clift %.4f (%+.2f%%), lateral %.1e, slip max %.3f rms %.4f U\n",
-              to_string(o.coupling).c_str(), o.reynolds, o.cells_per_diameter, r.cells[0], r.cells[1], r.cells[2], r.tau,
-              static_cast<long long>(r.steps), r.drag_coefficient, r.previous_fifth, r.reference,
-              100.0 * (r.drag_coefficient / r.reference - 1.0), r.lateral_ratio, r.slip_max, r.slip_rms);
+  std::printf(
+      "%s, Re = %g, d = %g cells (%dx%dx%d, tau %.4f, %lld steps): C_D = %.4f (fifth before %.4f), "
+      "Clift %.4f (%+.2f%%), lateral %.1e, slip max %.3f rms %.4f U\n",
+      to_string(o.coupling).c_str(), o.reynolds, o.cells_per_diameter, r.cells[0], r.cells[1], r.cells[2], r.tau,
+      static_cast<long long>(r.steps), r.drag_coefficient, r.previous_fifth, r.reference,
+      100.0 * (r.drag_coefficient / r.reference - 1.0), r.lateral_ratio, r.slip_max, r.slip_rms);
   std::fflush(stdout);
   return r;
 }

@@ -19,9 +19,9 @@ void check(int box_cells, double cells_per_diameter = 24.0) {
   o.max_steps = 100000;  // the viscous time L^2 / nu of the 64-cell box is 25 000 steps
   const PeriodicSphereResult r = run_periodic_sphere(o);
   std::printf("d = %g cells, L = %d: phi = %.4f, K = %.4f, Sangani-Acrivos %.4f (%+.2f%%), Re = %.1e, %lld steps\n",
-              cells_per_diameter, box_cells, r.solid_fraction, r.k, r.k_reference, 100.0 * (r.k / r.k_reference - 1.0), r.reynolds,
-              static_cast<long long>(r.steps));
-  EXPECT_LT(r.reynolds, 0.01);            // creeping flow (see test_periodic_sphere.cpp)
+              cells_per_diameter, box_cells, r.solid_fraction, r.k, r.k_reference, 100.0 * (r.k / r.k_reference - 1.0),
+              r.reynolds, static_cast<long long>(r.steps));
+  EXPECT_LT(r.reynolds, 0.01);              // creeping flow (see test_periodic_sphere.cpp)
   EXPECT_LT(r.last_relative_change, 1e-5);  // steady
   // Finer than the CI check: the error must stay within the 2% (it shrinks with the
   // diffuse interface's width relative to d).

@@ -121,7 +121,8 @@ constexpr std::array<std::array<double, 5>, 16> kSegurViscosityMpaS{{
 TEST(GlycerolWaterProperties, ViscosityAgreesWithSegurAndOberstarWithinChengsScatter) {
   for (std::size_t i = 0; i < kSegurMassPercent.size(); ++i)
     for (std::size_t j = 0; j < kSegurTemperatureC.size(); ++j) {
-      const double mu = glycerol_water_properties(kSegurMassPercent[i] / 100.0, kSegurTemperatureC[j]).dynamic_viscosity_si;
+      const double mu =
+          glycerol_water_properties(kSegurMassPercent[i] / 100.0, kSegurTemperatureC[j]).dynamic_viscosity_si;
       // Cheng states no single accuracy; his figures show a few per cent of scatter about these data.
       // Over the 80 entries (1 to 12000 mPa s) the formula deviates by at most 3.5 % (65-95 % glycerol
       // at 0-10 C), hence 4 %; a wrong coefficient shifts whole rows or columns by far more.
@@ -220,7 +221,8 @@ TEST(FluidPresetCase, WithoutAPresetTheFluidMeansWhatItAlwaysMeant) {
   EXPECT_EQ(v.string("fluid.preset"), "none");
   EXPECT_FALSE(v.has("fluid.temperature"));
   EXPECT_TRUE(unsupported_key_warnings(v).empty());
-  const CaseValues explicit_values = load_text("explicit.toml", case_text("density = 1000.0\ndynamic_viscosity = 2e-3"));
+  const CaseValues explicit_values =
+      load_text("explicit.toml", case_text("density = 1000.0\ndynamic_viscosity = 2e-3"));
   EXPECT_EQ(explicit_values.real("fluid.density"), 1000.0);
   EXPECT_EQ(explicit_values.real("fluid.dynamic_viscosity"), 2e-3);
 }
@@ -235,22 +237,22 @@ TEST(FluidPresetCase, WaterPresetSetsDensityAndViscosityFromTheTemperature) {
   EXPECT_LT(v.real("fluid.dynamic_viscosity"), 0.7e-3);
   EXPECT_TRUE(unsupported_key_warnings(v).empty());
 
-  const CaseValues g = load_text("glycerol.toml",
-                                 case_text("preset = \"glycerol-water\"\ntemperature = 20\nglycerol_mass_fraction = 0.5"));
+  const CaseValues g = load_text(
+      "glycerol.toml", case_text("preset = \"glycerol-water\"\ntemperature = 20\nglycerol_mass_fraction = 0.5"));
   EXPECT_EQ(g.real("fluid.density"), glycerol_water_properties(0.5, 20.0).density_si);
   EXPECT_EQ(g.real("fluid.dynamic_viscosity"), glycerol_water_properties(0.5, 20.0).dynamic_viscosity_si);
 }
 
 TEST(FluidPresetCase, SetCanChooseThePresetAndItsTemperature) {
-  const CaseValues v =
-      load_text("set.toml", case_text(""), {"fluid.preset=\"water\"", "fluid.temperature=10"});
+  const CaseValues v = load_text("set.toml", case_text(""), {"fluid.preset=\"water\"", "fluid.temperature=10"});
   EXPECT_EQ(v.real("fluid.density"), water_properties(10.0).density_si);
   EXPECT_EQ(v.real("fluid.dynamic_viscosity"), water_properties(10.0).dynamic_viscosity_si);
 }
 
 TEST(FluidPresetCase, ExplicitValuesOverrideThePresetAndAreReported) {
   // In the file: density explicit, viscosity from the preset.
-  const CaseValues v = load_text("override.toml", case_text("preset = \"water\"\ntemperature = 40.0\ndensity = 1000.0"));
+  const CaseValues v =
+      load_text("override.toml", case_text("preset = \"water\"\ntemperature = 40.0\ndensity = 1000.0"));
   EXPECT_EQ(v.real("fluid.density"), 1000.0);
   EXPECT_EQ(v.real("fluid.dynamic_viscosity"), water_properties(40.0).dynamic_viscosity_si);
   const auto warnings = unsupported_key_warnings(v);
@@ -265,14 +267,16 @@ TEST(FluidPresetCase, ExplicitValuesOverrideThePresetAndAreReported) {
 }
 
 TEST(FluidPresetCase, ResolvedCaseReadsBackToTheSameValuesWithoutWarnings) {
-  const CaseValues v = load_text("resolved_source.toml",
-                                 case_text("preset = \"glycerol-water\"\ntemperature = 25.0\nglycerol_mass_fraction = 0.6"));
+  const CaseValues v =
+      load_text("resolved_source.toml",
+                case_text("preset = \"glycerol-water\"\ntemperature = 25.0\nglycerol_mass_fraction = 0.6"));
   const std::string resolved = write_resolved_toml(v);
   // The resolved file names the preset, its inputs and the values used (not as defaults).
   EXPECT_TRUE(contains(resolved, "preset = \"glycerol-water\"")) << resolved;
   EXPECT_TRUE(contains(resolved, "temperature = 25.0")) << resolved;
   EXPECT_TRUE(contains(resolved, "glycerol_mass_fraction = 0.6")) << resolved;
-  EXPECT_TRUE(contains(resolved, "density = " + to_toml(Value(v.real("fluid.density"))) + "  # [kg/m^3] fluid density (when given"))
+  EXPECT_TRUE(contains(
+      resolved, "density = " + to_toml(Value(v.real("fluid.density"))) + "  # [kg/m^3] fluid density (when given"))
       << resolved;
   const CaseValues back = load_text("resolved.toml", resolved);
   for (const KeySpec& k : back.schema().keys()) {
@@ -289,8 +293,8 @@ TEST(FluidPresetCase, ResolvedCaseReadsBackToTheSameValuesWithoutWarnings) {
 }
 
 TEST(FluidPresetCase, GlycerolDensityOutsideItsFittedTemperaturesIsReported) {
-  const CaseValues hot = load_text("hot.toml",
-                                   case_text("preset = \"glycerol-water\"\ntemperature = 60\nglycerol_mass_fraction = 0.8"));
+  const CaseValues hot =
+      load_text("hot.toml", case_text("preset = \"glycerol-water\"\ntemperature = 60\nglycerol_mass_fraction = 0.8"));
   const auto warnings = unsupported_key_warnings(hot);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_TRUE(contains(warnings[0], "fluid.temperature = 60.0")) << warnings[0];
@@ -298,8 +302,10 @@ TEST(FluidPresetCase, GlycerolDensityOutsideItsFittedTemperaturesIsReported) {
 }
 
 TEST(FluidPresetCase, MisplacedMissingAndOutOfRangeKeysAreRefusedByName) {
-  EXPECT_TRUE(contains(refusal(case_text("temperature = 20.0")), "fluid.temperature = 20.0: only used with fluid.preset"));
-  EXPECT_TRUE(contains(refusal(case_text("preset = \"water\"")), "fluid.temperature: required when fluid.preset = \"water\""));
+  EXPECT_TRUE(
+      contains(refusal(case_text("temperature = 20.0")), "fluid.temperature = 20.0: only used with fluid.preset"));
+  EXPECT_TRUE(
+      contains(refusal(case_text("preset = \"water\"")), "fluid.temperature: required when fluid.preset = \"water\""));
   EXPECT_TRUE(contains(refusal(case_text("preset = \"water\"\ntemperature = 20.0\nglycerol_mass_fraction = 0.5")),
                        "fluid.glycerol_mass_fraction = 0.5: only used with fluid.preset = \"glycerol-water\""));
   EXPECT_TRUE(contains(refusal(case_text("glycerol_mass_fraction = 0.5")), "fluid.glycerol_mass_fraction = 0.5"));
@@ -308,7 +314,8 @@ TEST(FluidPresetCase, MisplacedMissingAndOutOfRangeKeysAreRefusedByName) {
   // Ranges come from the schema: the key, the value and the interval.
   const std::string hot = refusal(case_text("preset = \"water\""), {"fluid.temperature=120"});
   EXPECT_TRUE(contains(hot, "[fluid] temperature = 120.0: must be in [0.0, 100.0] (degrees C)")) << hot;
-  const std::string fraction = refusal(case_text("preset = \"glycerol-water\"\ntemperature = 20\nglycerol_mass_fraction = 1.5"));
+  const std::string fraction =
+      refusal(case_text("preset = \"glycerol-water\"\ntemperature = 20\nglycerol_mass_fraction = 1.5"));
   EXPECT_TRUE(contains(fraction, "[fluid] glycerol_mass_fraction = 1.5: must be in [0.0, 1.0]")) << fraction;
   const std::string honey = refusal(case_text("preset = \"honey\""));
   EXPECT_TRUE(contains(honey, "must be one of \"none\", \"water\", \"glycerol-water\"")) << honey;

@@ -91,9 +91,13 @@ TEST(MemoryEstimate, MatchesTheResidentMemoryOfARealSolver) {
     std::array<lbm::Boundary, 3> boundaries;
   };
   const Case cases[] = {
-      {{64, 64, 64}, lbm::LatticeKind::D3Q19, lbm::Precision::float64,
+      {{64, 64, 64},
+       lbm::LatticeKind::D3Q19,
+       lbm::Precision::float64,
        {lbm::Boundary::no_slip, lbm::Boundary::no_slip, lbm::Boundary::no_slip}},
-      {{40, 56, 72}, lbm::LatticeKind::D3Q27, lbm::Precision::float32,
+      {{40, 56, 72},
+       lbm::LatticeKind::D3Q27,
+       lbm::Precision::float32,
        {lbm::Boundary::periodic, lbm::Boundary::free_slip, lbm::Boundary::no_slip}},
   };
   for (const Case& c : cases) {
@@ -219,10 +223,12 @@ TEST(ParticleInDomain, PreflightAcceptsExactlyWhatTheSimulationAcceptsNearAWall)
     for (double cells = 3.0; cells <= 8.0; cells += 0.25) {
       s.initial.position_si = {2.0e-3, 2.0e-3, cells * dx};
       const bool expected = simulation_accepts(s);
-      EXPECT_EQ(preflight_accepts(s), expected) << coupling::to_string(kind) << ", centre " << cells << " cells above the floor";
+      EXPECT_EQ(preflight_accepts(s), expected)
+          << coupling::to_string(kind) << ", centre " << cells << " cells above the floor";
       refused += expected ? 0 : 1;
       s.initial.position_si = {2.0e-3, 2.0e-3, 6.0e-3 - cells * dx};
-      EXPECT_EQ(preflight_accepts(s), simulation_accepts(s)) << coupling::to_string(kind) << ", centre " << cells << " cells below the lid";
+      EXPECT_EQ(preflight_accepts(s), simulation_accepts(s))
+          << coupling::to_string(kind) << ", centre " << cells << " cells below the lid";
     }
     EXPECT_GT(refused, 0) << coupling::to_string(kind);  // the scan crossed the threshold
     EXPECT_LT(refused, 21) << coupling::to_string(kind);

@@ -16,11 +16,15 @@ namespace test_schema {
 
 Schema test_schema() {
   std::vector<KeySpec> keys;
-  keys.push_back({"fluid.density", Kind::Real, Value(998.2), "kg/m^3", "fluid density", {0.0, INFINITY, false, true}, {}, 0});
-  keys.push_back({"fluid.gravity", Kind::RealArray, Value(std::vector<double>{0, 0, -9.81}), "m/s^2", "gravity", {}, {}, 3});
-  keys.push_back({"particle.shape", Kind::String, Value(std::string("sphere")), "", "shape", {}, {"sphere", "spheroid"}, 0});
+  keys.push_back(
+      {"fluid.density", Kind::Real, Value(998.2), "kg/m^3", "fluid density", {0.0, INFINITY, false, true}, {}, 0});
+  keys.push_back(
+      {"fluid.gravity", Kind::RealArray, Value(std::vector<double>{0, 0, -9.81}), "m/s^2", "gravity", {}, {}, 3});
+  keys.push_back(
+      {"particle.shape", Kind::String, Value(std::string("sphere")), "", "shape", {}, {"sphere", "spheroid"}, 0});
   keys.push_back({"particle.diameter", Kind::Real, std::nullopt, "m", "diameter", {0.0, INFINITY, false, true}, {}, 0});
-  keys.push_back({"domain.walls.x", Kind::String, Value(std::string("no-slip")), "", "x walls", {}, {"no-slip", "periodic"}, 0});
+  keys.push_back(
+      {"domain.walls.x", Kind::String, Value(std::string("no-slip")), "", "x walls", {}, {"no-slip", "periodic"}, 0});
   keys.push_back({"run.steps", Kind::Integer, Value(std::int64_t{10}), "", "steps", {1, 1e6, true, true}, {}, 0});
   keys.push_back({"run.stop", Kind::Boolean, Value(false), "", "stop early", {}, {}, 0});
   return Schema(std::move(keys));
@@ -184,15 +188,39 @@ TEST(CaseSchema, EveryDefaultSatisfiesItsOwnDeclarationAndTheDesignKeysExist) {
   // The Schema constructor rejects a default outside its range; building it is the check.
   const Schema& schema = case_schema();
   // The key names are a contract (docs/architecture.md, "Contracts"): none may go missing.
-  for (const char* key :
-       {"fluid.density", "fluid.dynamic_viscosity", "fluid.gravity", "fluid.body_force", "particle.shape",
-        "particle.diameter", "particle.aspect_ratio", "particle.semi_axes", "particle.exponents", "particle.length",
-        "particle.size", "particle.file", "particle.scale", "particle.density", "particle.motion",
-        "particle.towing_velocity", "particle.position", "particle.euler", "particle.velocity",
-        "particle.angular_velocity", "domain.size", "domain.walls.x", "domain.walls.y", "domain.walls.z",
-        "domain.follow_particle", "numerics.cells_per_diameter", "numerics.collision", "numerics.precision",
-        "run.end_time", "run.output_interval", "run.vtk_interval", "run.stop_at_terminal",
-        "run.checkpoint_interval"})
+  for (const char* key : {"fluid.density",
+                          "fluid.dynamic_viscosity",
+                          "fluid.gravity",
+                          "fluid.body_force",
+                          "particle.shape",
+                          "particle.diameter",
+                          "particle.aspect_ratio",
+                          "particle.semi_axes",
+                          "particle.exponents",
+                          "particle.length",
+                          "particle.size",
+                          "particle.file",
+                          "particle.scale",
+                          "particle.density",
+                          "particle.motion",
+                          "particle.towing_velocity",
+                          "particle.position",
+                          "particle.euler",
+                          "particle.velocity",
+                          "particle.angular_velocity",
+                          "domain.size",
+                          "domain.walls.x",
+                          "domain.walls.y",
+                          "domain.walls.z",
+                          "domain.follow_particle",
+                          "numerics.cells_per_diameter",
+                          "numerics.collision",
+                          "numerics.precision",
+                          "run.end_time",
+                          "run.output_interval",
+                          "run.vtk_interval",
+                          "run.stop_at_terminal",
+                          "run.checkpoint_interval"})
     EXPECT_NE(schema.find(key), nullptr) << key;
 }
 

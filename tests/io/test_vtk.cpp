@@ -2,6 +2,7 @@
 // by regular expressions, the appended raw block by byte offsets), so nothing depends on VTK.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -14,7 +15,6 @@
 #include <regex>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -42,8 +42,8 @@ class ScratchDirectory {
  public:
   ScratchDirectory() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("settle_vtk_") + info->test_suite_name() + "_" + info->name() + "_" + std::to_string(::getpid()));
+    path_ = fs::temp_directory_path() / (std::string("settle_vtk_") + info->test_suite_name() + "_" + info->name() +
+                                         "_" + std::to_string(::getpid()));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -67,8 +67,8 @@ std::string read_bytes(const fs::path& path) {
 std::map<std::string, std::string> attributes_of(const std::string& element_text) {
   static const std::regex attribute(R"re((\w+)="([^"]*)")re");
   std::map<std::string, std::string> attributes;
-  for (auto it = std::sregex_iterator(element_text.begin(), element_text.end(), attribute); it != std::sregex_iterator();
-       ++it)
+  for (auto it = std::sregex_iterator(element_text.begin(), element_text.end(), attribute);
+       it != std::sregex_iterator(); ++it)
     attributes[(*it)[1].str()] = (*it)[2].str();
   return attributes;
 }
@@ -178,7 +178,8 @@ void expect_consistent_blocks(const ParsedVtk& parsed, const std::map<std::strin
   for (const ParsedArray& array : parsed.arrays) {
     EXPECT_EQ(array.offset, expected_offset) << array.name;
     ASSERT_TRUE(tuples.count(array.name)) << array.name;
-    EXPECT_EQ(array.byte_count, tuples.at(array.name) * static_cast<std::size_t>(array.components) * type_size(array.type))
+    EXPECT_EQ(array.byte_count,
+              tuples.at(array.name) * static_cast<std::size_t>(array.components) * type_size(array.type))
         << array.name;
     expected_offset = array.offset + 8 + array.byte_count;
   }
@@ -212,7 +213,9 @@ std::unique_ptr<lbm::Solver> solver_with_known_field(std::array<lbm::Boundary, 3
   config.nz = 4;
   config.boundaries = boundaries;
   auto fluid = lbm::make_solver(config);
-  fluid->initialise([](int x, int y, int z) { return lbm::CellState{known_density(x, y, z), known_velocity(x, y, z)}; });
+  fluid->initialise([](int x, int y, int z) {
+    return lbm::CellState{known_density(x, y, z), known_velocity(x, y, z)};
+  });
   return fluid;
 }
 
@@ -268,8 +271,8 @@ TEST(VtkFluid, HeaderBlocksAndValuesRoundTrip) {
       EXPECT_EQ(parsed.arrays[i].components, components[i]);
       EXPECT_EQ(parsed.arrays[i].type, i == 0 ? "Float64" : float_type);
     }
-    expect_consistent_blocks(parsed, {{"TimeValue", 1}, {"velocity", cells}, {"pressure", cells},
-                                      {"vorticity", cells}, {"marker", cells}});
+    expect_consistent_blocks(
+        parsed, {{"TimeValue", 1}, {"velocity", cells}, {"pressure", cells}, {"vorticity", cells}, {"marker", cells}});
     EXPECT_EQ(values_of(parsed.array("TimeValue")), std::vector<double>{0.125});
 
     const std::vector<double> velocity = values_of(parsed.array("velocity"));
@@ -329,9 +332,11 @@ TEST(VtkFluid, SolidFractionWrapsPeriodicAxesAndDropsCellsOutside) {
 
 TEST(VtkFluid, RefusesBadExtraFieldsAndUnwritablePaths) {
   const ScratchDirectory scratch;
-  const auto fluid = solver_with_known_field({lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic});
+  const auto fluid =
+      solver_with_known_field({lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic});
   const std::vector<ScalarPointField> short_field{{"alpha", std::vector<double>(3)}};
-  EXPECT_THROW(write_fluid_vti(scratch.path() / "a.vti", *fluid, test_scaling(), {}, short_field), std::invalid_argument);
+  EXPECT_THROW(write_fluid_vti(scratch.path() / "a.vti", *fluid, test_scaling(), {}, short_field),
+               std::invalid_argument);
   const std::vector<ScalarPointField> clash{{"pressure", std::vector<double>(fluid->cell_count())}};
   EXPECT_THROW(write_fluid_vti(scratch.path() / "a.vti", *fluid, test_scaling(), {}, clash), std::invalid_argument);
   EXPECT_FALSE(fs::exists(scratch.path() / "a.vti"));
@@ -347,7 +352,8 @@ TEST(VtkFluid, RefusesBadExtraFieldsAndUnwritablePaths) {
 
 TEST(VtkFluid, RewritingReplacesTheFileWholeAndLeavesNoTemporary) {
   const ScratchDirectory scratch;
-  const auto fluid = solver_with_known_field({lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic});
+  const auto fluid =
+      solver_with_known_field({lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic});
   const fs::path path = scratch.path() / "fluid.vti";
   write_fluid_vti(path, *fluid, test_scaling(), {VtkPrecision::float64, std::nullopt});
   const auto first_size = fs::file_size(path);
@@ -379,14 +385,17 @@ double enclosed_volume(const body::TriangleMesh& mesh) {
 double longest_edge(const body::TriangleMesh& mesh) {
   double longest = 0.0;
   for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) longest = std::max(longest, (mesh.vertices[t[k]] - mesh.vertices[t[(k + 1) % 3]]).norm());
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (mesh.vertices[t[k]] - mesh.vertices[t[(k + 1) % 3]]).norm());
   return longest;
 }
 
 /// Closed and consistently oriented: every edge is used once in each direction, so each
 /// undirected edge is shared by exactly two triangles.
 void expect_closed(const body::TriangleMesh& mesh) {
-  const auto key = [](int from, int to) { return (static_cast<std::uint64_t>(from) << 32) | static_cast<std::uint32_t>(to); };
+  const auto key = [](int from, int to) {
+    return (static_cast<std::uint64_t>(from) << 32) | static_cast<std::uint32_t>(to);
+  };
   std::vector<std::uint64_t> directed;
   for (const auto& t : mesh.triangles)
     for (int k = 0; k < 3; ++k) directed.push_back(key(t[k], t[(k + 1) % 3]));
@@ -553,8 +562,11 @@ TEST(VtkSurface, PosedSurfaceFileHoldsTheMovedPointsTrianglesAndRigidVelocity) {
   EXPECT_EQ(piece.at("NumberOfPoints"), std::to_string(points));
   EXPECT_EQ(piece.at("NumberOfPolys"), std::to_string(triangles));
   EXPECT_EQ(piece.at("NumberOfVerts"), "0");
-  expect_consistent_blocks(parsed, {{"TimeValue", 1}, {"velocity", points}, {"Points", points},
-                                    {"connectivity", 3 * triangles}, {"offsets", triangles}});
+  expect_consistent_blocks(parsed, {{"TimeValue", 1},
+                                    {"velocity", points},
+                                    {"Points", points},
+                                    {"connectivity", 3 * triangles},
+                                    {"offsets", triangles}});
   EXPECT_EQ(parsed.array("Points").section, "Points");
   EXPECT_EQ(parsed.array("Points").type, "Float64");
   EXPECT_EQ(parsed.array("velocity").section, "PointData");

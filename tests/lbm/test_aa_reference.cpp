@@ -64,13 +64,15 @@ RefLattice make_ref_lattice(LatticeKind kind) {
 class Reference {
  public:
   Reference(const SolverConfig& cfg, RefLattice lat)
-      : cfg_(cfg), lat_(std::move(lat)), q_(static_cast<int>(lat_.c.size())),
+      : cfg_(cfg),
+        lat_(std::move(lat)),
+        q_(static_cast<int>(lat_.c.size())),
         cells_(static_cast<std::size_t>(cfg.nx * cfg.ny * cfg.nz)),
-        f_(cells_ * q_), post_(cells_ * q_), force_(cells_, Eigen::Vector3d::Zero()) {}
+        f_(cells_ * q_),
+        post_(cells_ * q_),
+        force_(cells_, Eigen::Vector3d::Zero()) {}
 
-  std::size_t cell(int x, int y, int z) const {
-    return static_cast<std::size_t>(x + cfg_.nx * (y + cfg_.ny * z));
-  }
+  std::size_t cell(int x, int y, int z) const { return static_cast<std::size_t>(x + cfg_.nx * (y + cfg_.ny * z)); }
   double& f(std::size_t n, int k) { return f_[n * q_ + k]; }
   Eigen::Vector3d& force(std::size_t n) { return force_[n]; }
 
@@ -127,8 +129,8 @@ class Reference {
         const double fp = 0.5 * (g[k] + g[o]), fm = 0.5 * (g[k] - g[o]);
         const double ep = 0.5 * (feq[k] + feq[o]), em = 0.5 * (feq[k] - feq[o]);
         const double sp = 0.5 * (S[k] + S[o]), sm = 0.5 * (S[k] - S[o]);
-        out[k] = g[k] - omega * (fp - ep) - omega_minus * (fm - em) + (1.0 - omega / 2) * sp +
-                 (1.0 - omega_minus / 2) * sm;
+        out[k] =
+            g[k] - omega * (fp - ep) - omega_minus * (fm - em) + (1.0 - omega / 2) * sp + (1.0 - omega_minus / 2) * sm;
       }
     } else {
       regularized(g, out, rho, u, F, feq, S, omega);
@@ -140,9 +142,8 @@ class Reference {
   //   f* = w [rho + rho c.u / cs^2 + H2 : A2 / (2 cs^4) + H3 : A3 / (6 cs^6)] + S / 2,
   //   A2 = rho u u + (1 - omega) dev(a2),  A3 = rho u u u + (1 - omega) a3(a2),
   //   a2 = sum H2 (f - feq) + (u F + F u) / 2,  a3_abc = u_a a2_bc + u_b a2_ac + u_c a2_ab.
-  void regularized(const double* g, double* out, double rho, const Eigen::Vector3d& u,
-                   const Eigen::Vector3d& F, const std::vector<double>& feq,
-                   const std::vector<double>& S, double omega) const {
+  void regularized(const double* g, double* out, double rho, const Eigen::Vector3d& u, const Eigen::Vector3d& F,
+                   const std::vector<double>& feq, const std::vector<double>& S, double omega) const {
     const double cs2_ = 1.0 / 3.0;
     const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
     Eigen::Matrix3d a2 = 0.5 * (u * F.transpose() + F * u.transpose());
@@ -154,8 +155,8 @@ class Reference {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         for (int c = 0; c < 3; ++c)
-          A3[a][b][c] = rho * u[a] * u[b] * u[c] +
-                        (1.0 - omega) * (u[a] * a2(b, c) + u[b] * a2(a, c) + u[c] * a2(a, b));
+          A3[a][b][c] =
+              rho * u[a] * u[b] * u[c] + (1.0 - omega) * (u[a] * a2(b, c) + u[b] * a2(a, c) + u[c] * a2(a, b));
     for (int k = 0; k < q_; ++k) {
       const Eigen::Vector3d c = cvec(k);
       double h2 = 0.0, h3 = 0.0;
@@ -168,8 +169,7 @@ class Reference {
           }
         }
       }
-      out[k] = lat_.w[k] * (rho + rho * c.dot(u) / cs2_ + h2 / (2 * cs2_ * cs2_) +
-                            h3 / (6 * cs2_ * cs2_ * cs2_)) +
+      out[k] = lat_.w[k] * (rho + rho * c.dot(u) / cs2_ + h2 / (2 * cs2_ * cs2_) + h3 / (6 * cs2_ * cs2_ * cs2_)) +
                0.5 * S[k];
     }
   }
@@ -277,8 +277,10 @@ class Reference {
     for (int a = 0; a < 3; ++a) {
       second[a] = x[a] - lat_.c[i][a];
       if (second[a] >= 0 && second[a] < extent[a]) continue;
-      if (cfg_.boundaries[a] == Boundary::periodic) second[a] = (second[a] + extent[a]) % extent[a];
-      else has_second = false;
+      if (cfg_.boundaries[a] == Boundary::periodic)
+        second[a] = (second[a] + extent[a]) % extent[a];
+      else
+        has_second = false;
     }
     has_second = has_second && !is_solid(second);
     double back = 0.0;
@@ -366,7 +368,9 @@ RefObstacle obstacle_around(const SolverConfig& cfg, const RefLattice& lat, std:
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const std::array<int, 3> extent{cfg.nx, cfg.ny, cfg.nz};
-  const auto solid_at = [&](const std::array<int, 3>& c) { return std::find(o.solid.begin(), o.solid.end(), c) != o.solid.end(); };
+  const auto solid_at = [&](const std::array<int, 3>& c) {
+    return std::find(o.solid.begin(), o.solid.end(), c) != o.solid.end();
+  };
   for (int z = 0; z < cfg.nz; ++z)
     for (int y = 0; y < cfg.ny; ++y)
       for (int x = 0; x < cfg.nx; ++x) {
@@ -378,8 +382,10 @@ RefObstacle obstacle_around(const SolverConfig& cfg, const RefLattice& lat, std:
           for (int a = 0; a < 3; ++a) {
             n[a] = std::array<int, 3>{x, y, z}[a] + lat.c[k][a];
             if (n[a] >= 0 && n[a] < extent[a]) continue;
-            if (cfg.boundaries[a] == Boundary::periodic) n[a] = (n[a] + extent[a]) % extent[a];
-            else inside = false;
+            if (cfg.boundaries[a] == Boundary::periodic)
+              n[a] = (n[a] + extent[a]) % extent[a];
+            else
+              inside = false;
           }
           if (!inside || !solid_at(n)) continue;
           // Fractions over (0, 1], both branches of the interpolation; wall speeds up to 0.05.
@@ -436,15 +442,17 @@ Agreement compare_with(const SolverConfig& cfg, int steps, unsigned seed, const 
     const auto& got = solver->wall_momentum();
     const auto& want = ref.wall_momentum();
     if (got.size() != want.size()) return {INFINITY, INFINITY};
-    for (std::size_t m = 0; m < got.size(); ++m) worst.momentum = std::max(worst.momentum, (got[m] - want[m]).cwiseAbs().maxCoeff());
+    for (std::size_t m = 0; m < got.size(); ++m)
+      worst.momentum = std::max(worst.momentum, (got[m] - want[m]).cwiseAbs().maxCoeff());
   }
   return worst;
 }
 
-double compare(const SolverConfig& cfg, int steps, unsigned seed) { return compare_with(cfg, steps, seed, nullptr).populations; }
+double compare(const SolverConfig& cfg, int steps, unsigned seed) {
+  return compare_with(cfg, steps, seed, nullptr).populations;
+}
 
-SolverConfig small_box(LatticeKind lattice, CollisionKind collision, Boundary bx, Boundary by,
-                       Boundary bz) {
+SolverConfig small_box(LatticeKind lattice, CollisionKind collision, Boundary bx, Boundary by, Boundary bz) {
   SolverConfig cfg;
   cfg.lattice = lattice;
   cfg.collision = collision;
@@ -465,52 +473,52 @@ constexpr double kRoundOff = 1e-13;
 constexpr int kSteps = 5;  // covers both AA parities several times
 
 TEST(LbmAaReference, PeriodicTrtD3Q19) {
-  const auto cfg = small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::periodic,
-                             Boundary::periodic, Boundary::periodic);
+  const auto cfg =
+      small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::periodic, Boundary::periodic, Boundary::periodic);
   EXPECT_LT(compare(cfg, kSteps, 1), kRoundOff);
 }
 
 TEST(LbmAaReference, MixedTrtD3Q19PeriodicXFreeSlipYNoSlipZ) {
-  const auto cfg = small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::periodic,
-                             Boundary::free_slip, Boundary::no_slip);
+  const auto cfg =
+      small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::periodic, Boundary::free_slip, Boundary::no_slip);
   EXPECT_LT(compare(cfg, kSteps, 2), kRoundOff);
 }
 
 TEST(LbmAaReference, MixedBgkD3Q19NoSlipXPeriodicYFreeSlipZ) {
-  const auto cfg = small_box(LatticeKind::D3Q19, CollisionKind::bgk, Boundary::no_slip,
-                             Boundary::periodic, Boundary::free_slip);
+  const auto cfg =
+      small_box(LatticeKind::D3Q19, CollisionKind::bgk, Boundary::no_slip, Boundary::periodic, Boundary::free_slip);
   EXPECT_LT(compare(cfg, kSteps, 3), kRoundOff);
 }
 
 TEST(LbmAaReference, AllFreeSlipTrtD3Q27) {
-  const auto cfg = small_box(LatticeKind::D3Q27, CollisionKind::trt, Boundary::free_slip,
-                             Boundary::free_slip, Boundary::free_slip);
+  const auto cfg =
+      small_box(LatticeKind::D3Q27, CollisionKind::trt, Boundary::free_slip, Boundary::free_slip, Boundary::free_slip);
   EXPECT_LT(compare(cfg, kSteps, 4), kRoundOff);
 }
 
 TEST(LbmAaReference, AllNoSlipBgkD3Q27) {
-  const auto cfg = small_box(LatticeKind::D3Q27, CollisionKind::bgk, Boundary::no_slip,
-                             Boundary::no_slip, Boundary::no_slip);
+  const auto cfg =
+      small_box(LatticeKind::D3Q27, CollisionKind::bgk, Boundary::no_slip, Boundary::no_slip, Boundary::no_slip);
   EXPECT_LT(compare(cfg, kSteps, 5), kRoundOff);
 }
 
 TEST(LbmAaReference, MixedFreeSlipXNoSlipYPeriodicZTrtD3Q27) {
-  const auto cfg = small_box(LatticeKind::D3Q27, CollisionKind::trt, Boundary::free_slip,
-                             Boundary::no_slip, Boundary::periodic);
+  const auto cfg =
+      small_box(LatticeKind::D3Q27, CollisionKind::trt, Boundary::free_slip, Boundary::no_slip, Boundary::periodic);
   EXPECT_LT(compare(cfg, kSteps, 6), kRoundOff);
 }
 
 TEST(LbmAaReference, RecursiveRegularizedD3Q27MatchesFullTensorForm) {
-  auto cfg = small_box(LatticeKind::D3Q27, CollisionKind::recursive_regularized,
-                       Boundary::periodic, Boundary::no_slip, Boundary::free_slip);
+  auto cfg = small_box(LatticeKind::D3Q27, CollisionKind::recursive_regularized, Boundary::periodic, Boundary::no_slip,
+                       Boundary::free_slip);
   cfg.tau = 0.52;
   EXPECT_LT(compare(cfg, kSteps, 7), kRoundOff);
 }
 
 TEST(LbmAaReference, SingleCellThickPeriodicAxis) {
   // A periodic axis one cell thick (quasi-2D runs) wraps every link onto the cell itself.
-  auto cfg = small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::no_slip,
-                       Boundary::free_slip, Boundary::periodic);
+  auto cfg =
+      small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::no_slip, Boundary::free_slip, Boundary::periodic);
   cfg.nz = 1;
   EXPECT_LT(compare(cfg, kSteps, 8), kRoundOff);
 }
@@ -554,8 +562,8 @@ TEST(LbmAaReference, ObstacleWithInterpolatedMovingWalls) {
 }
 
 TEST(LbmAaReference, FloatStorageFollowsDoubleReference) {
-  auto cfg = small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::periodic,
-                       Boundary::free_slip, Boundary::no_slip);
+  auto cfg =
+      small_box(LatticeKind::D3Q19, CollisionKind::trt, Boundary::periodic, Boundary::free_slip, Boundary::no_slip);
   cfg.precision = Precision::float32;
   // Float storage of f - w: |f - w| <= 0.2 w ~ 0.02, rounded to 2^-24 relative (1.2e-9)
   // each step, plus the per-cell forces stored in float (1e-3 * 6e-8). Five steps stay

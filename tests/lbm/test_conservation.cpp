@@ -22,14 +22,13 @@ CellState stirred(int x, int y, int z, int nx, int ny, int nz) {
   const double sx = (x + 0.5) / nx, sy = (y + 0.5) / ny, sz = (z + 0.5) / nz;
   CellState s;
   s.velocity = 0.05 * Eigen::Vector3d(std::sin(pi * sy) * std::cos(2 * pi * sz),
-                                      std::sin(2 * pi * sx) * std::sin(pi * sz),
-                                      std::cos(pi * sx) * std::sin(pi * sy));
+                                      std::sin(2 * pi * sx) * std::sin(pi * sz), std::cos(pi * sx) * std::sin(pi * sy));
   s.density = 1.0 + 0.01 * std::sin(2 * pi * sx + 1.0) * std::cos(pi * sy);
   return s;
 }
 
-double mass_drift(Precision precision, LatticeKind lattice, CollisionKind collision,
-                  std::array<Boundary, 3> walls, int steps) {
+double mass_drift(Precision precision, LatticeKind lattice, CollisionKind collision, std::array<Boundary, 3> walls,
+                  int steps) {
   SolverConfig cfg;
   cfg.lattice = lattice;
   cfg.collision = collision;
@@ -78,13 +77,11 @@ TEST(LbmConservation, MixedBoundariesConserveMassForEveryLatticeAndCollision) {
   }};
   for (const auto& walls : setups) {
     for (const auto lattice : {LatticeKind::D3Q19, LatticeKind::D3Q27}) {
-      for (const auto collision :
-           {CollisionKind::bgk, CollisionKind::trt, CollisionKind::recursive_regularized}) {
+      for (const auto collision : {CollisionKind::bgk, CollisionKind::trt, CollisionKind::recursive_regularized}) {
         const double drift = mass_drift(Precision::float64, lattice, collision, walls, 200);
         // Same round-off argument as the closed box, fewer steps.
-        EXPECT_LT(drift, 1e-13) << to_string(lattice) << " " << to_string(collision) << " "
-                                << to_string(walls[0]) << "/" << to_string(walls[1]) << "/"
-                                << to_string(walls[2]);
+        EXPECT_LT(drift, 1e-13) << to_string(lattice) << " " << to_string(collision) << " " << to_string(walls[0])
+                                << "/" << to_string(walls[1]) << "/" << to_string(walls[2]);
       }
     }
   }
@@ -114,8 +111,8 @@ TEST(LbmConservation, FluidAtRestUnderGravityInMixedChannelStaysAtRest) {
     }
   }
   const double gradient = (solver->cell_density(0, 0, cfg.nz - 2) - solver->cell_density(0, 0, 1)) / (cfg.nz - 3);
-  std::printf("hydrostatic channel: max |u| %.2e (force %.0e), density gradient %.6e (expected %.6e)\n",
-              max_speed, g, gradient, -g / cs2);
+  std::printf("hydrostatic channel: max |u| %.2e (force %.0e), density gradient %.6e (expected %.6e)\n", max_speed, g,
+              gradient, -g / cs2);
   // At rest means no velocity beyond round-off of the O(1e-5) force terms: 1e-14 is 1e-9 of
   // the force; a wrong half-force correction or an unbalanced wall gives O(g) = 1e-5.
   EXPECT_LT(max_speed, 1e-14);
@@ -147,8 +144,8 @@ TEST(LbmFreeSlip, UniformFlowParallelToFreeSlipWallsStaysUniform) {
         }
       }
     }
-    std::printf("free-slip %s: max |u - u0| %.2e, max |rho - 1| %.2e after 301 steps\n",
-                to_string(lattice).c_str(), worst, worst_rho);
+    std::printf("free-slip %s: max |u - u0| %.2e, max |rho - 1| %.2e after 301 steps\n", to_string(lattice).c_str(),
+                worst, worst_rho);
     // Specular reflection maps the uniform equilibrium onto itself, so only round-off of
     // O(0.05) values remains (ulp 7e-18); 1e-15 is ~100 ulps. A no-slip-like wall would slow
     // the wall cells by O(0.01) within these steps.

@@ -25,8 +25,7 @@ struct Couette {
     return -omega * r_inner * r_inner / d * r + omega * r_inner * r_inner * r_outer * r_outer / d / r;
   }
   double torque_per_length(double mu) const {
-    return 4.0 * M_PI * mu * omega * r_inner * r_inner * r_outer * r_outer /
-           (r_outer * r_outer - r_inner * r_inner);
+    return 4.0 * M_PI * mu * omega * r_inner * r_inner * r_outer * r_outer / (r_outer * r_outer - r_inner * r_inner);
   }
   bool solid(const Eigen::Vector2d& p) const {
     const double r = (p - centre).norm();
@@ -87,8 +86,8 @@ CouetteResult run_couette(double r_outer, WallRule rule) {
         const double q = flow.crossing(p, d);
         const Eigen::Vector2d wall = p + q * d - flow.centre;
         const bool inner = wall.norm() < 0.5 * (flow.r_inner + flow.r_outer);
-        const Eigen::Vector3d u_w = inner ? Eigen::Vector3d(-flow.omega * wall.y(), flow.omega * wall.x(), 0.0)
-                                          : Eigen::Vector3d::Zero();
+        const Eigen::Vector3d u_w =
+            inner ? Eigen::Vector3d(-flow.omega * wall.y(), flow.omega * wall.x(), 0.0) : Eigen::Vector3d::Zero();
         obstacle.links.push_back({{x, y, 0}, i, q, u_w});
       }
     }
@@ -125,8 +124,8 @@ CouetteResult run_couette(double r_outer, WallRule rule) {
   for (std::size_t k = 0; k < obstacle.links.size(); ++k) {
     const WallLink& link = obstacle.links[k];
     const auto& c = D3Q19::set.c[link.dir];
-    const Eigen::Vector2d wall = Eigen::Vector2d(link.cell[0], link.cell[1]) +
-                                 link.q * Eigen::Vector2d(c[0], c[1]) - flow.centre;
+    const Eigen::Vector2d wall =
+        Eigen::Vector2d(link.cell[0], link.cell[1]) + link.q * Eigen::Vector2d(c[0], c[1]) - flow.centre;
     if (wall.norm() > 0.5 * (flow.r_inner + flow.r_outer)) continue;
     result.torque += wall.x() * momentum[k].y() - wall.y() * momentum[k].x();
   }

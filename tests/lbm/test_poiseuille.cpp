@@ -25,8 +25,8 @@ struct ChannelResult {
   std::int64_t steps = 0;
 };
 
-ChannelResult run_channel(int height, CollisionKind collision, double tau, double magic,
-                          Precision precision, double u_max = 0.01) {
+ChannelResult run_channel(int height, CollisionKind collision, double tau, double magic, Precision precision,
+                          double u_max = 0.01) {
   SolverConfig cfg;
   cfg.collision = collision;
   cfg.precision = precision;
@@ -46,8 +46,7 @@ ChannelResult run_channel(int height, CollisionKind collision, double tau, doubl
   // < 1e-14 relative, far below the errors measured here.
   const double tolerance = precision == Precision::float64 ? 1e-16 : 1e-12;
   ChannelResult result;
-  result.steps =
-      run_to_steady_state(*solver, tolerance, 400 * static_cast<std::int64_t>(height * height / nu));
+  result.steps = run_to_steady_state(*solver, tolerance, 400 * static_cast<std::int64_t>(height * height / nu));
   double err2 = 0.0, ref2 = 0.0, err_max = 0.0, ref_max = 0.0;
   for (int j = 0; j < height; ++j) {
     const double y = j + 0.5;
@@ -74,8 +73,8 @@ TEST(LbmPoiseuille, TrtMagicThreeSixteenthsIsExactAtCoarseResolution) {
     // Round-off of ~1e5 steps of updates of O(1e-2) velocities: 1e-11 relative leaves
     // two orders of margin; a misplaced wall (Lambda != 3/16) gives ~1e-2 at H = 6.
     EXPECT_LT(result.relative_max, 1e-11) << "tau = " << tau;
-    std::printf("TRT 3/16, H = 6, tau = %.1f: max relative error %.2e after %lld steps\n", tau,
-                result.relative_max, static_cast<long long>(result.steps));
+    std::printf("TRT 3/16, H = 6, tau = %.1f: max relative error %.2e after %lld steps\n", tau, result.relative_max,
+                static_cast<long long>(result.steps));
   }
 }
 
@@ -92,8 +91,8 @@ TEST(LbmPoiseuille, NonMagicTrtIsViscosityDependentAndSecondOrder) {
     // Second order means 4x smaller per halving of dx; accepted band 1.8..2.2.
     EXPECT_GT(order, 1.8) << "refinement " << k;
     EXPECT_LT(order, 2.2) << "refinement " << k;
-    std::printf("TRT Lambda 1/4: H %d -> %d: L2 %.3e -> %.3e, order %.3f\n", 8 << (k - 1),
-                8 << k, errors[k - 1], errors[k], order);
+    std::printf("TRT Lambda 1/4: H %d -> %d: L2 %.3e -> %.3e, order %.3f\n", 8 << (k - 1), 8 << k, errors[k - 1],
+                errors[k], order);
   }
 }
 
@@ -108,8 +107,8 @@ TEST(LbmPoiseuille, BgkWallErrorIsSecondOrder) {
     const double order = std::log2(errors[k - 1] / errors[k]);
     EXPECT_GT(order, 1.8) << "refinement " << k;  // the band for second order
     EXPECT_LT(order, 2.2) << "refinement " << k;
-    std::printf("BGK tau 0.7: H %d -> %d: L2 %.3e -> %.3e, order %.3f\n", 8 << (k - 1),
-                8 << k, errors[k - 1], errors[k], order);
+    std::printf("BGK tau 0.7: H %d -> %d: L2 %.3e -> %.3e, order %.3f\n", 8 << (k - 1), 8 << k, errors[k - 1],
+                errors[k], order);
   }
 }
 
@@ -127,8 +126,7 @@ TEST(LbmPoiseuille, FloatStorageMatchesDouble) {
   // at most ~2.6e-4 if fully systematic. 3e-4 is that bound; an error in the float path
   // (wrong cast, truncated force, misplaced store) is O(1). Measured: 2.7e-5.
   EXPECT_LT(std::sqrt(diff2 / ref2), 3e-4);
-  std::printf("float vs double storage, TRT H = 16: relative L2 difference %.2e\n",
-              std::sqrt(diff2 / ref2));
+  std::printf("float vs double storage, TRT H = 16: relative L2 difference %.2e\n", std::sqrt(diff2 / ref2));
 }
 
 }  // namespace test_poiseuille

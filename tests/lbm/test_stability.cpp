@@ -19,7 +19,9 @@ namespace test_stability {
 
 using namespace settle::lbm;
 
-constexpr double kTau = 0.5 + 1.5e-4;  // nu = 5e-5: Re = U L / nu = 0.1 * 64 / 5e-5 = 128000  // nu = 5e-5: Re = U L / nu = 0.05 * 64 / 5e-5 = 64000
+constexpr double kTau =
+    0.5 +
+    1.5e-4;  // nu = 5e-5: Re = U L / nu = 0.1 * 64 / 5e-5 = 128000  // nu = 5e-5: Re = U L / nu = 0.05 * 64 / 5e-5 = 64000
 constexpr double kU = 0.1;  // Mach number U / cs = 0.17
 constexpr int kL = 64;
 constexpr int kSteps = 4000;  // ~6 convective times L/U
@@ -75,10 +77,11 @@ TEST(LbmStability, ShearLayerNearHalfTauBlowsUpBgkAndTrtButNotRecursiveRegulariz
   const auto trt = shear_layer(CollisionKind::trt, LatticeKind::D3Q19);
   const auto rr = shear_layer(CollisionKind::recursive_regularized, LatticeKind::D3Q19);
   const auto rr27 = shear_layer(CollisionKind::recursive_regularized, LatticeKind::D3Q27);
-  std::printf("shear layer tau = 0.5 + 1.5e-4, U = %.2f, %d steps: max |u| / U: bgk %.3g, "
-              "trt %.3g, rr D3Q19 %.3g (E/E0 %.4f), rr D3Q27 %.3g (E/E0 %.4f)\n",
-              kU, kSteps, bgk.max_speed / kU, trt.max_speed / kU, rr.max_speed / kU,
-              rr.energy_ratio, rr27.max_speed / kU, rr27.energy_ratio);
+  std::printf(
+      "shear layer tau = 0.5 + 1.5e-4, U = %.2f, %d steps: max |u| / U: bgk %.3g, "
+      "trt %.3g, rr D3Q19 %.3g (E/E0 %.4f), rr D3Q27 %.3g (E/E0 %.4f)\n",
+      kU, kSteps, bgk.max_speed / kU, trt.max_speed / kU, rr.max_speed / kU, rr.energy_ratio, rr27.max_speed / kU,
+      rr27.energy_ratio);
   // Blown up: NaN or |u| beyond the lattice speed of sound (0.58), i.e. > 5 U.
   EXPECT_GT(bgk.max_speed, 0.5);
   EXPECT_GT(trt.max_speed, 0.5);

@@ -36,8 +36,8 @@ struct DecayResult {
 
 /// Energy decay rate of the vortex in the plane (axis_a, axis_b) of an N^3 box, fitted
 /// between step t0 (after the initial equilibrium-start transient) and t1.
-DecayResult taylor_green(int n, LatticeKind lattice, CollisionKind collision, Precision precision,
-                         double tau, int axis_a, int axis_b, int t0, int t1, double u0 = 0.02) {
+DecayResult taylor_green(int n, LatticeKind lattice, CollisionKind collision, Precision precision, double tau,
+                         int axis_a, int axis_b, int t0, int t1, double u0 = 0.02) {
   SolverConfig cfg;
   cfg.lattice = lattice;
   cfg.collision = collision;
@@ -66,10 +66,9 @@ DecayResult taylor_green(int n, LatticeKind lattice, CollisionKind collision, Pr
 
 TEST(LbmTaylorGreen, TrtD3Q19EnergyDecayRateWithinOnePercentAt64Cubed) {
   // tau = 0.65 (nu = 0.05): the energy falls by exp(-1.2) over the fitted 300 steps.
-  const auto r = taylor_green(64, LatticeKind::D3Q19, CollisionKind::trt, Precision::float64,
-                              0.65, 0, 1, 50, 350);
-  std::printf("TGV 64^3 D3Q19 TRT tau 0.65: rate %.6e, exact 2 nu K = %.6e, error %.3e\n",
-              r.measured_rate, r.exact_rate, r.relative_error());
+  const auto r = taylor_green(64, LatticeKind::D3Q19, CollisionKind::trt, Precision::float64, 0.65, 0, 1, 50, 350);
+  std::printf("TGV 64^3 D3Q19 TRT tau 0.65: rate %.6e, exact 2 nu K = %.6e, error %.3e\n", r.measured_rate,
+              r.exact_rate, r.relative_error());
   // 1 %: LBM's viscosity is second-order accurate in k dx = 0.098 (error
   // ~1e-3) and the Mach-number error ~Ma^2 ~ 1e-3, so 1 % is a safe yet failing-capable bound
   // (a wrong tau-nu relation or forcing-free viscosity error shows up as several %).
@@ -95,17 +94,15 @@ TEST(LbmTaylorGreen, EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed)
       {LatticeKind::D3Q19, CollisionKind::trt, Precision::float32, 0, 1},
   };
   for (const auto& v : variants) {
-    const auto r = taylor_green(32, v.lattice, v.collision, v.precision, 0.65, v.axis_a, v.axis_b,
-                                20, 170);
-    std::printf("TGV 32^3 %s %s %s plane (%d,%d): rate %.6e, exact %.6e, error %.3e\n",
-                to_string(v.lattice).c_str(), to_string(v.collision).c_str(),
-                to_string(v.precision).c_str(), v.axis_a, v.axis_b, r.measured_rate,
+    const auto r = taylor_green(32, v.lattice, v.collision, v.precision, 0.65, v.axis_a, v.axis_b, 20, 170);
+    std::printf("TGV 32^3 %s %s %s plane (%d,%d): rate %.6e, exact %.6e, error %.3e\n", to_string(v.lattice).c_str(),
+                to_string(v.collision).c_str(), to_string(v.precision).c_str(), v.axis_a, v.axis_b, r.measured_rate,
                 r.exact_rate, r.relative_error());
     // At 32 cells per wavelength the second-order dispersion error is 4x that at 64^3,
     // still a few 1e-3; 2 % bounds it with margin while a broken lattice, collision or
     // plane (wrong offsets) gives O(1) errors or blows up.
-    EXPECT_LT(r.relative_error(), 0.02)
-        << to_string(v.lattice) << " " << to_string(v.collision) << " " << to_string(v.precision);
+    EXPECT_LT(r.relative_error(), 0.02) << to_string(v.lattice) << " " << to_string(v.collision) << " "
+                                        << to_string(v.precision);
   }
 }
 

@@ -203,10 +203,13 @@ TEST(LbmFields, ExtremaAreThoseOfTheFullFields) {
     const auto linear = [&](const std::array<int, 3>& c) {
       return static_cast<std::size_t>(c[0] + solver->nx() * (c[1] + solver->ny() * c[2]));
     };
-    EXPECT_EQ(linear(e.min_density_cell), static_cast<std::size_t>(std::min_element(rho.begin(), rho.end()) - rho.begin()));
-    EXPECT_EQ(linear(e.max_density_cell), static_cast<std::size_t>(std::max_element(rho.begin(), rho.end()) - rho.begin()));
-    EXPECT_DOUBLE_EQ(std::hypot(u.x[linear(e.max_speed_cell)], u.y[linear(e.max_speed_cell)], u.z[linear(e.max_speed_cell)]),
-                     max_speed);
+    EXPECT_EQ(linear(e.min_density_cell),
+              static_cast<std::size_t>(std::min_element(rho.begin(), rho.end()) - rho.begin()));
+    EXPECT_EQ(linear(e.max_density_cell),
+              static_cast<std::size_t>(std::max_element(rho.begin(), rho.end()) - rho.begin()));
+    EXPECT_DOUBLE_EQ(
+        std::hypot(u.x[linear(e.max_speed_cell)], u.y[linear(e.max_speed_cell)], u.z[linear(e.max_speed_cell)]),
+        max_speed);
   }
 }
 
