@@ -119,8 +119,14 @@ Eigen::Vector3d Ellipsoid::closest_surface_point(const Eigen::Vector3d& p) const
     return r > 0.0 ? Eigen::Vector3d(p * (semi_axes_.x() / r)) : Eigen::Vector3d(0.0, 0.0, semi_axes_.z());
   }
   // Reflect into the first octant and order the axes by decreasing length.
+  // Three insertion steps, stable as std::stable_sort (which allocates a buffer on every call).
   std::array<int, 3> order{0, 1, 2};
-  std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return semi_axes_(i) > semi_axes_(j); });
+  const auto longer = [&](int i, int j) { return semi_axes_(i) > semi_axes_(j); };
+  if (longer(order[1], order[0])) std::swap(order[0], order[1]);
+  if (longer(order[2], order[1])) {
+    std::swap(order[1], order[2]);
+    if (longer(order[1], order[0])) std::swap(order[0], order[1]);
+  }
   Eigen::Vector3d e, y;
   for (int k = 0; k < 3; ++k) {
     e(k) = semi_axes_(order[k]);
