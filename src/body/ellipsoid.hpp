@@ -22,10 +22,11 @@ class Ellipsoid final : public Shape {
   std::string kind() const override { return kind_; }
   bool contains(const Eigen::Vector3d& p) const override;
   /// Exact (to round-off): the closest point solves the Lagrange condition
-  /// x_i = a_i^2 p_i / (a_i^2 + t), whose multiplier t is the root of a monotone function,
-  /// bracketed and bisected to machine precision, with the special cases of points on the
-  /// symmetry planes handled separately (Eberly 2013, "Distance from a point to an ellipse,
-  /// an ellipsoid, or a hyperellipsoid", Geometric Tools). About 60 bisection steps per call.
+  /// x_i = a_i^2 p_i / (a_i^2 + t), whose multiplier t is the root of a monotone convex function,
+  /// bracketed and solved to machine precision by Newton's method from below (bisection where
+  /// that crawls), with the special cases of points on the symmetry planes handled separately
+  /// (Eberly 2013, "Distance from a point to an ellipse, an ellipsoid, or a hyperellipsoid",
+  /// Geometric Tools, which bisects throughout).
   double signed_distance(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;

@@ -1,5 +1,6 @@
 // Spheres, spheroids and triaxial ellipsoids against closed forms.
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -172,6 +173,46 @@ TEST(Ellipsoid, ClosestPointSatisfiesOptimalityAndBeatsDenseSample) {
     EXPECT_GE(nearest_sample, std::abs(d) - 1e-12) << p.transpose();
     const double r = 0.0167, kappa = 12.0;
     EXPECT_LE(nearest_sample, std::sqrt(d * d + r * r * (1.0 + kappa * std::abs(d)))) << p.transpose();
+  }
+}
+
+// The multiplier's solver on elongated and flat bodies (100:1), at points near the centre (close
+// to the medial surface, where the root is steep) and far away: the foot point lies on the surface
+// and p - q is along its normal. Failing either means the solver stopped short of the root. The
+// foot point's coordinates r_i y_i / (s + r_i) carry the ratios r_i = (a_max / a_i)^2, up to 1e4
+// here, which multiply the round-off of s: the bound is 64 ulp times the largest ratio.
+TEST(Ellipsoid, ClosestPointOfNeedlesAndDisksIsOnTheSurfaceAlongTheNormal) {
+  std::mt19937_64 rng(7);
+  for (const Eigen::Vector3d axes :
+       {Eigen::Vector3d(100.0, 1.0, 1.0), Eigen::Vector3d(10.0, 10.0, 0.1), Eigen::Vector3d(5.0, 1.0, 0.05)}) {
+    const Ellipsoid e(axes);
+    const double ratio = axes.maxCoeff() / axes.minCoeff();
+    const double tolerance = 64.0 * std::numeric_limits<double>::epsilon() * ratio * ratio;
+    for (double scale : {1e-3, 0.3, 1.0, 1.01, 30.0}) {
+      for (int i = 0; i < 300; ++i) {
+        const Eigen::Vector3d p = testing::random_in_box(rng, scale * axes);
+        const Eigen::Vector3d q = e.closest_surface_point(p);
+        EXPECT_NEAR(q.cwiseQuotient(axes).squaredNorm(), 1.0, tolerance) << p.transpose();
+        if ((q - p).norm() > 1e-9 * axes.maxCoeff())
+          EXPECT_NEAR(std::abs((p - q).normalized().dot(e.outward_normal(q))), 1.0, tolerance) << p.transpose();
+      }
+    }
+  }
+}
+
+// Inside a prolate spheroid on its axis the nearest points form a ring; a point off the axis by
+// round-off (1e-17) once gave an infinite foot point (the multiplier landed on its pole). Point
+// (0, 0, -1/2) in the spheroid of semi-axes (1/2, 1/2, 1): the ring lies at z = -2/3 with radius
+// sqrt(5)/6, at distance 1/sqrt(6).
+TEST(Ellipsoid, PointsOffTheAxisByRoundOffFindTheRing) {
+  const Ellipsoid e(Eigen::Vector3d(0.5, 0.5, 1.0), "spheroid");
+  for (const Eigen::Vector3d p : {Eigen::Vector3d(3.0601062746966847e-17, 9.6167713909546204e-19, -0.5),
+                                  Eigen::Vector3d(-1e-20, 2e-17, -0.5), Eigen::Vector3d(0.0, 0.0, -0.5)}) {
+    const Eigen::Vector3d q = e.closest_surface_point(p);
+    ASSERT_TRUE(q.allFinite()) << p.transpose();
+    EXPECT_NEAR(q.z(), -2.0 / 3.0, 1e-14);
+    EXPECT_NEAR(std::hypot(q.x(), q.y()), std::sqrt(5.0) / 6.0, 1e-14);
+    EXPECT_NEAR(e.signed_distance(p), -1.0 / std::sqrt(6.0), 1e-14);
   }
 }
 
