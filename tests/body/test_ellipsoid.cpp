@@ -183,7 +183,7 @@ TEST(Ellipsoid, ClosestPointSatisfiesOptimalityAndBeatsDenseSample) {
 // here, which multiply the round-off of s: the bound is 64 ulp times the largest ratio.
 TEST(Ellipsoid, ClosestPointOfNeedlesAndDisksIsOnTheSurfaceAlongTheNormal) {
   std::mt19937_64 rng(7);
-  for (const Eigen::Vector3d axes :
+  for (const Eigen::Vector3d& axes :
        {Eigen::Vector3d(100.0, 1.0, 1.0), Eigen::Vector3d(10.0, 10.0, 0.1), Eigen::Vector3d(5.0, 1.0, 0.05)}) {
     const Ellipsoid e(axes);
     const double ratio = axes.maxCoeff() / axes.minCoeff();
@@ -193,8 +193,9 @@ TEST(Ellipsoid, ClosestPointOfNeedlesAndDisksIsOnTheSurfaceAlongTheNormal) {
         const Eigen::Vector3d p = testing::random_in_box(rng, scale * axes);
         const Eigen::Vector3d q = e.closest_surface_point(p);
         EXPECT_NEAR(q.cwiseQuotient(axes).squaredNorm(), 1.0, tolerance) << p.transpose();
-        if ((q - p).norm() > 1e-9 * axes.maxCoeff())
+        if ((q - p).norm() > 1e-9 * axes.maxCoeff()) {
           EXPECT_NEAR(std::abs((p - q).normalized().dot(e.outward_normal(q))), 1.0, tolerance) << p.transpose();
+        }
       }
     }
   }
@@ -206,8 +207,8 @@ TEST(Ellipsoid, ClosestPointOfNeedlesAndDisksIsOnTheSurfaceAlongTheNormal) {
 // sqrt(5)/6, at distance 1/sqrt(6).
 TEST(Ellipsoid, PointsOffTheAxisByRoundOffFindTheRing) {
   const Ellipsoid e(Eigen::Vector3d(0.5, 0.5, 1.0), "spheroid");
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(3.0601062746966847e-17, 9.6167713909546204e-19, -0.5),
-                                  Eigen::Vector3d(-1e-20, 2e-17, -0.5), Eigen::Vector3d(0.0, 0.0, -0.5)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(3.0601062746966847e-17, 9.6167713909546204e-19, -0.5),
+                                   Eigen::Vector3d(-1e-20, 2e-17, -0.5), Eigen::Vector3d(0.0, 0.0, -0.5)}) {
     const Eigen::Vector3d q = e.closest_surface_point(p);
     ASSERT_TRUE(q.allFinite()) << p.transpose();
     EXPECT_NEAR(q.z(), -2.0 / 3.0, 1e-14);
