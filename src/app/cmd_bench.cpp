@@ -259,23 +259,15 @@ void add_bench_command(CLI::App& app) {
                                                  "time the coupled step of the case `settle run` runs without a file")
                                        ->excludes(case_option);
   cmd->add_option("--set", options->overrides,
-                  "with --case: override a case key, e.g. --set numerics.cells_per_diameter=24");
-  cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27")
-      ->capture_default_str()
-      ->excludes(case_option)
-      ->excludes(default_case_flag);
-  cmd->add_option("--collision", options->collision, "bgk, trt or recursive_regularized")
-      ->capture_default_str()
-      ->excludes(case_option)
-      ->excludes(default_case_flag);
-  cmd->add_option("--precision", options->precision, "storage precision: double or float")
-      ->capture_default_str()
-      ->excludes(case_option)
-      ->excludes(default_case_flag);
-  cmd->add_option("--size", options->size, "cells per edge N of the periodic box")
-      ->capture_default_str()
-      ->excludes(case_option)
-      ->excludes(default_case_flag);
+                  "with --case or --default-case: override a case key, e.g. --set numerics.cells_per_diameter=24");
+  // The periodic box's own options: a case sets its grid and model itself.
+  const auto box_only = [&](CLI::Option* option) {
+    option->capture_default_str()->excludes(case_option)->excludes(default_case_flag);
+  };
+  box_only(cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27"));
+  box_only(cmd->add_option("--collision", options->collision, "bgk, trt or recursive_regularized"));
+  box_only(cmd->add_option("--precision", options->precision, "storage precision: double or float"));
+  box_only(cmd->add_option("--size", options->size, "cells per edge N of the periodic box"));
   cmd->add_option("--steps", options->steps, "timed steps per round (rounded up to even)")->capture_default_str();
   cmd->add_option("--threads", options->threads, "OpenMP threads (0: OMP_NUM_THREADS or all cores)")
       ->capture_default_str();
