@@ -13,5 +13,6 @@ void add_run_command(CLI::App& app);
 void add_predict_command(CLI::App& app);
 void add_analyze_command(CLI::App& app);
 void add_plot_command(CLI::App& app);
+void add_study_command(CLI::App& app);
 
 }  // namespace settle::app

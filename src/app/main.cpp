@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   settle::app::add_predict_command(app);
   settle::app::add_analyze_command(app);
   settle::app::add_plot_command(app);
+  settle::app::add_study_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

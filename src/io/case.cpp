@@ -127,6 +127,12 @@ CaseValues load_case(const std::filesystem::path& path, const std::vector<std::s
   return values;
 }
 
+CaseValues load_case_text(std::string_view toml_text, std::string_view origin) {
+  CaseValues values = parse_case(case_schema(), toml_text, origin);
+  apply_fluid_preset(values);
+  return values;
+}
+
 namespace {
 
 // domain.inflow, domain.inflow_velocity and domain.outflow: each open face replaces the walls of

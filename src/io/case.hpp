@@ -18,6 +18,9 @@ namespace settle::io {
 /// problem.
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides);
 
+/// As load_case, for a case given as TOML text (`origin` names it in messages), without overrides.
+CaseValues load_case_text(std::string_view toml_text, std::string_view origin);
+
 /// The shape keys of a checked case's [particle] table (shape, diameter, aspect_ratio, semi_axes,
 /// exponents, length, size, file, scale), for body::make_shape: the one reader of a case's shape,
 /// used by `settle run`, `settle shape` and `settle predict`.

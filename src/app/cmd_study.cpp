@@ -1,0 +1,211 @@
+// `settle study run|collect|task` (docs/studies.md): many runs of one base case. The study module
+// reads and expands the study file, prepares its directory, runs the cases as processes and builds
+// the table and its analyses; this file parses the flags, prints, writes the collected files and
+// draws the figures with python/settle_study_plot.py.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <fmt/core.h>
+
+#include "app/commands.hpp"
+#include "app/python_child.hpp"
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "study/study_directory.hpp"
+#include "study/study_runner.hpp"
+#include "study/study_spec.hpp"
+#include "study/study_table.hpp"
+
+namespace settle::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kPlotScript = "settle_study_plot.py";
+constexpr int kExitSomeCasesFailed = 3;  // documented in docs/studies.md
+
+struct StudyRunOptions {
+  std::string study_file;
+  std::string output_dir;
+  int jobs = 1;
+  int threads = 0;  // 0: the cores shared out among the jobs
+  bool dry_run = false;
+  std::string emit;
+};
+
+struct StudyTaskOptions {
+  std::string dir;
+  int index = -1;
+  int threads = 1;
+};
+
+struct StudyCollectOptions {
+  std::string dir;
+  bool plots = true;
+};
+
+fs::path this_executable() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (error) throw std::runtime_error("cannot find the settle executable (/proc/self/exe): " + error.message());
+  return self;
+}
+
+int default_threads(int jobs) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(1, cores / std::max(1, jobs));
+}
+
+// A Slurm job array of the prepared study: task i runs case i with `settle study task`.
+std::string slurm_script(const fs::path& dir, const std::string& study, std::size_t cases, int threads) {
+  const fs::path absolute = fs::absolute(dir);
+  return fmt::format(
+      "#!/bin/bash\n"
+      "# The study {} as a Slurm job array, one task a case (written by `settle study run --emit slurm`).\n"
+      "# Submit from any folder: sbatch {}. Each task runs its case in {}/case_NNNN as\n"
+      "# `settle study run` would (resuming from a checkpoint); gather with `settle study collect {}`.\n"
+      "#SBATCH --job-name=settle-{}\n"
+      "#SBATCH --array=0-{}\n"
+      "#SBATCH --ntasks=1\n"
+      "#SBATCH --cpus-per-task={}\n"
+      "#SBATCH --output={}/slurm_%A_%a.log\n"
+      "set -euo pipefail\n"
+      "export OMP_PROC_BIND=close OMP_PLACES=cores\n"
+      "exec {} study task {} --index \"${{SLURM_ARRAY_TASK_ID}}\" --threads \"${{SLURM_CPUS_PER_TASK:-{}}}\"\n",
+      study, (absolute / "slurm_array.sh").string(), absolute.string(), absolute.string(), study, cases - 1, threads,
+      absolute.string(), this_executable().string(), absolute.string(), threads);
+}
+
+void print_plan(const std::vector<study::StudyCase>& cases) {
+  for (const study::StudyCase& c : cases)
+    std::printf("%s  %s\n", study::case_folder(c.index).c_str(), study::describe_inputs(c.inputs).c_str());
+}
+
+void run_study_command(const StudyRunOptions& o) {
+  if (o.jobs < 1) throw InputError(fmt::format("--jobs: {} is not >= 1", o.jobs));
+  if (o.threads < 0) throw InputError(fmt::format("--threads: {} is not >= 1", o.threads));
+  if (!o.emit.empty() && o.emit != "slurm") throw InputError(fmt::format("--emit: \"{}\" is not slurm", o.emit));
+  const study::StudySpec spec = study::read_study(o.study_file);
+  const std::vector<study::StudyCase> cases = study::expand(spec);  // every case checked before anything runs
+  const int threads = o.threads > 0 ? o.threads : default_threads(o.jobs);
+  if (o.dry_run) {
+    std::fprintf(stderr, "settle study: %s: %zu cases, all checked\n", spec.name.c_str(), cases.size());
+    print_plan(cases);
+    return;
+  }
+  if (o.output_dir.empty()) throw InputError("-o: required (the study's directory)");
+  const fs::path dir = o.output_dir;
+  study::prepare_study_directory(spec, cases, dir);
+  if (o.emit == "slurm") {
+    const fs::path script = dir / "slurm_array.sh";
+    write_file_atomically(script, slurm_script(dir, spec.name, cases.size(), threads));
+    fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+    std::printf("%s\n", script.string().c_str());
+    return;
+  }
+  study::RunnerOptions runner{this_executable(), o.jobs, threads, 30.0,
+                              [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); }};
+  const study::StudyOutcome outcome = study::run_study(dir, runner);
+  for (const std::string& failure : outcome.failures)
+    std::fprintf(stderr, "settle study: failed: %s\n", failure.c_str());
+  if (outcome.stop_signal != 0)
+    throw RunInterrupted(fmt::format("study interrupted: {} cases stopped (each writes its checkpoint); run the same "
+                                     "command again to resume",
+                                     outcome.interrupted),
+                         outcome.stop_signal);
+  if (outcome.failed > 0) {
+    std::fprintf(stderr, "settle study: %d of %d cases failed; run the same command again to retry them\n",
+                 outcome.failed, outcome.cases);
+    std::exit(kExitSomeCasesFailed);
+  }
+  std::fprintf(stderr, "settle study: all %d cases done (%d kept from before); collect with: settle study collect %s\n",
+               outcome.cases, outcome.kept, dir.string().c_str());
+}
+
+void task_command(const StudyTaskOptions& o) {
+  study::RunnerOptions runner{this_executable(), 1, o.threads, 30.0, {}};
+  const int status = study::run_study_case(o.dir, o.index, runner);
+  if (status != 0) std::exit(status);
+}
+
+void collect_command(const StudyCollectOptions& o) {
+  const fs::path dir = o.dir;
+  const study::StudyTable table = study::collect_table(dir);
+  nlohmann::ordered_json document;
+  document["study"] = table.study;
+  document["inputs"] = table.inputs;
+  document["rows"] = table.rows;
+  document["analyses"] = study::study_analyses(table);
+  write_file_atomically(dir / "study.csv", study::table_csv(table));
+  write_file_atomically(dir / "study_results.json", document.dump(2) + "\n");
+  std::printf("%s\n%s\n", (dir / "study.csv").string().c_str(), (dir / "study_results.json").string().c_str());
+  for (const auto& fit : document["analyses"]["coefficient_fits"])
+    std::fprintf(stderr, "fit %s %s: %s = %s, rms residual %.4g, max %.4g\n", fit["inputs"].dump().c_str(),
+                 fit["figure"].get<std::string>().c_str(), fit["form"].get<std::string>().c_str(),
+                 fit["coefficients"].dump().c_str(), fit["rms_residual"].get<double>(),
+                 fit["max_residual"].get<double>());
+  for (const auto& g : document["analyses"]["grid_convergence"])
+    std::fprintf(stderr, "grid convergence %s %s: order %s, extrapolated %s, GCI %s\n", g["inputs"].dump().c_str(),
+                 g["figure"].get<std::string>().c_str(), g["observed_order"].dump().c_str(),
+                 g["extrapolated"].dump().c_str(), g["gci_fine"].dump().c_str());
+  if (!o.plots) return;
+  const fs::path script = find_script(kPlotScript, "settle study collect");
+  const std::string python = find_python("settle study collect (or --no-plots)");
+  if (const int status = run_python_script(python, script, {"--", dir.string()}); status != 0) std::exit(status);
+}
+
+void add_run(CLI::App& study) {
+  auto o = std::make_shared<StudyRunOptions>();
+  CLI::App* cmd = study.add_subcommand("run",
+                                       "check every case of a study, then run them, N at a time; run again "
+                                       "to resume (done cases are kept, the others run again)");
+  cmd->add_option("STUDY", o->study_file, "study file (TOML, docs/studies.md)")->required();
+  cmd->add_option("-o,--output", o->output_dir, "the study's directory (required unless --dry-run)");
+  cmd->add_option("-j,--jobs", o->jobs, "cases run at a time (default 1)");
+  cmd->add_option("--threads", o->threads, "OpenMP threads per case (default: the cores divided among the jobs)");
+  cmd->add_flag("--dry-run", o->dry_run, "check the study and list its cases; run nothing, write nothing");
+  cmd->add_option("--emit", o->emit,
+                  "slurm: prepare the directory and write DIR/slurm_array.sh (a job array, one task a case) "
+                  "instead of running");
+  cmd->callback([o] { run_study_command(*o); });
+}
+
+void add_task(CLI::App& study) {
+  auto o = std::make_shared<StudyTaskOptions>();
+  CLI::App* cmd = study.add_subcommand("task", "run one case of a prepared study directory (a Slurm array task)");
+  cmd->add_option("DIR", o->dir, "the study's directory")->required();
+  cmd->add_option("--index", o->index, "the case's index (0-based; SLURM_ARRAY_TASK_ID)")->required();
+  cmd->add_option("--threads", o->threads, "OpenMP threads (default 1)");
+  cmd->callback([o] { task_command(*o); });
+}
+
+void add_collect(CLI::App& study) {
+  auto o = std::make_shared<StudyCollectOptions>();
+  CLI::App* cmd = study.add_subcommand(
+      "collect",
+      "gather a study's results: DIR/study.csv and DIR/study_results.json (rows, grid convergence, "
+      "coefficient fits, ensemble statistics) and PNG figures in DIR/plots");
+  cmd->add_option("DIR", o->dir, "the study's directory")->required();
+  cmd->add_flag("!--no-plots", o->plots, "skip the figures (no Python needed)");
+  cmd->callback([o] { collect_command(*o); });
+}
+
+}  // namespace
+
+void add_study_command(CLI::App& app) {
+  CLI::App* study = app.add_subcommand("study",
+                                       "studies of many runs: coefficient maps, orientation ensembles, "
+                                       "grid convergence (docs/studies.md)");
+  study->require_subcommand(1);
+  add_run(*study);
+  add_task(*study);
+  add_collect(*study);
+}
+
+}  // namespace settle::app

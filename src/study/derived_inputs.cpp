@@ -1,0 +1,131 @@
+#include "study/derived_inputs.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "attitude/euler.hpp"
+#include "body/shape_factory.hpp"
+#include "common/error.hpp"
+#include "io/case.hpp"
+
+namespace settle::study {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+double equivalent_diameter_m(const io::CaseValues& values, const std::filesystem::path& base_directory) {
+  body::ShapeFactoryOptions options;
+  options.base_directory = base_directory;
+  return body::make_shape(io::shape_spec(values), options)->equivalent_diameter();
+}
+
+double kinematic_viscosity_m2_s(const io::CaseValues& values) {
+  return values.real("fluid.dynamic_viscosity") / values.real("fluid.density");
+}
+
+Eigen::Vector3d vector3(const io::CaseValues& values, std::string_view key) {
+  const std::vector<double>& v = values.reals(key);
+  return {v[0], v[1], v[2]};
+}
+
+void set_vector3(io::CaseValues& values, std::string_view key, const Eigen::Vector3d& v) {
+  values.set(key, io::Value(std::vector<double>{v[0], v[1], v[2]}), "study");
+}
+
+// The direction of the relative flow's source: the base's towing direction, else along gravity.
+Eigen::Vector3d towing_direction(const io::CaseValues& values) {
+  if (values.has("particle.towing_velocity")) {
+    const Eigen::Vector3d v = vector3(values, "particle.towing_velocity");
+    if (v.norm() > 0.0) return v.normalized();
+  }
+  const Eigen::Vector3d g = vector3(values, "fluid.gravity");
+  return g.norm() > 0.0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d(0.0, 0.0, -1.0);
+}
+
+// Re = U d_eq / nu of a towed body (its towing speed) or a fixed body in an inflow (the inflow
+// speed); a free body's Reynolds number is an outcome of the run, not an input.
+void set_reynolds(io::CaseValues& values, double reynolds, const std::filesystem::path& base_directory) {
+  if (!(reynolds > 0.0)) throw InputError(fmt::format("reynolds: {} is not > 0", reynolds));
+  const double speed_m_s = reynolds * kinematic_viscosity_m2_s(values) / equivalent_diameter_m(values, base_directory);
+  const std::string& motion = values.string("particle.motion");
+  if (motion == "towed") {
+    set_vector3(values, "particle.towing_velocity", speed_m_s * towing_direction(values));
+  } else if (motion == "fixed" && values.has("domain.inflow_velocity")) {
+    const Eigen::Vector3d inflow = vector3(values, "domain.inflow_velocity");
+    if (inflow.norm() <= 0.0) throw InputError("reynolds: the base case's domain.inflow_velocity is zero");
+    set_vector3(values, "domain.inflow_velocity", speed_m_s * inflow.normalized());
+  } else {
+    throw InputError(fmt::format(
+        "reynolds: the base case's body is {} without an inflow; reynolds sets the towing speed of a towed body "
+        "(particle.motion = \"towed\") or the inflow speed of a fixed one; for a free body vary galileo",
+        motion));
+  }
+}
+
+// Ga = sqrt(|rho_p / rho_f - 1| g d_eq^3) / nu, solved for the dynamic viscosity.
+void set_galileo(io::CaseValues& values, double galileo, const std::filesystem::path& base_directory) {
+  if (!(galileo > 0.0)) throw InputError(fmt::format("galileo: {} is not > 0", galileo));
+  if (values.string("particle.motion") != "free")
+    throw InputError(
+        "galileo: sets the viscosity of a free body's case; the base case's body is not free "
+        "(particle.motion); for a towed body vary reynolds");
+  const double rho_f = values.real("fluid.density");
+  const double excess = std::abs(values.real("particle.density") / rho_f - 1.0);
+  const double g = vector3(values, "fluid.gravity").norm();
+  if (excess <= 0.0 || g <= 0.0)
+    throw InputError(
+        "galileo: the base case has no net weight (particle.density equals fluid.density, or no "
+        "gravity), so the Galileo number is zero");
+  const double d = equivalent_diameter_m(values, base_directory);
+  values.set("fluid.dynamic_viscosity", io::Value(rho_f * std::sqrt(excess * g * d * d * d) / galileo), "study");
+}
+
+// The body turned by the incidence about the inertial y axis, after its base attitude: with the
+// flow along z and a spheroid at euler = [0, 0, 0], the angle between its axis and the flow.
+void set_incidence(io::CaseValues& values, double incidence_deg) {
+  const Eigen::Matrix3d base = attitude::set1_body_to_inertial(vector3(values, "particle.euler"));
+  const Eigen::Matrix3d turned = Eigen::AngleAxisd(incidence_deg * kDegree, Eigen::Vector3d::UnitY()) * base;
+  set_vector3(values, "particle.euler", attitude::set1_angles_from_matrix(turned));
+}
+
+}  // namespace
+
+bool is_derived_input(std::string_view name) {
+  return name == "reynolds" || name == "incidence_deg" || name == "galileo";
+}
+
+std::string_view derived_input_names() { return "reynolds, incidence_deg, galileo"; }
+
+void set_derived_input(io::CaseValues& values, std::string_view name, double value,
+                       const std::filesystem::path& base_directory) {
+  if (name == "reynolds") return set_reynolds(values, value, base_directory);
+  if (name == "galileo") return set_galileo(values, value, base_directory);
+  if (name == "incidence_deg") return set_incidence(values, value);
+  throw InputError(fmt::format("{}: not a derived input ({})", name, derived_input_names()));
+}
+
+std::vector<Eigen::Quaterniond> uniform_rotations(int count, std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  // 53 random bits to a double in [0, 1): unlike std::uniform_real_distribution, the same on every
+  // standard library.
+  const auto uniform = [&engine] { return static_cast<double>(engine() >> 11) * 0x1.0p-53; };
+  std::vector<Eigen::Quaterniond> rotations;
+  rotations.reserve(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const double u1 = uniform(), u2 = uniform(), u3 = uniform();
+    const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
+    const double t2 = 2.0 * std::numbers::pi * u2, t3 = 2.0 * std::numbers::pi * u3;
+    rotations.emplace_back(b * std::cos(t3), a * std::sin(t2), a * std::cos(t2), b * std::sin(t3));
+  }
+  return rotations;
+}
+
+void set_attitude(io::CaseValues& values, const Eigen::Quaterniond& body_to_inertial) {
+  set_vector3(values, "particle.euler", attitude::set1_angles_from_matrix(body_to_inertial.toRotationMatrix()));
+}
+
+}  // namespace settle::study
