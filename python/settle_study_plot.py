@@ -3,7 +3,8 @@
 `settle study collect DIR`, into DIR/plots:
 
 - coefficients_vs_incidence.png: C_D, C_L and C_T against the incidence angle, one curve per
-  combination of the other inputs (for example the Reynolds number), with the fitted forms;
+  combination of the other inputs (for example the Reynolds number), with the fitted forms and,
+  for C_D, Hoelzer and Sommerfeld's law at each case's Reynolds number and attitude (dashed);
 - grid_convergence.png: each converging figure against the cell size 1/(cells per diameter), with
   Richardson's extrapolate at zero and Roache's grid convergence index as the band around it;
 - ensemble.png: histograms of the ensemble figures with their mean and standard deviation, and
@@ -66,12 +67,20 @@ def plot_coefficients(results, out_dir):
             colour = f"C{k % 10}"
             ax.plot(fit["incidence_deg"], fit["values"], "o", color=colour, label=group_label(fit["inputs"]))
             ax.plot(phi, fitted(fit, phi), "-", color=colour, lw=1)
+            if figure == "drag_coefficient":
+                law = sorted((row["incidence_deg"], row["drag_coefficient_holzer_sommerfeld"])
+                             for row in results["rows"]
+                             if row.get("drag_coefficient_holzer_sommerfeld") is not None
+                             and all(row.get(key) == value for key, value in fit["inputs"].items()))
+                if law:
+                    ax.plot(*zip(*law), "--", color=colour, lw=1,
+                            label="Hoelzer and Sommerfeld 2008" if k == 0 else None)
         ax.set_xlabel("incidence (deg)")
         ax.set_ylabel(LABELS[figure])
         ax.set_xticks(range(0, 91, 15))
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=7)
-    fig.suptitle(f"{results['study']}: settle (points) and fitted forms (lines)", fontsize=9)
+    fig.suptitle(f"{results['study']}: settle (points), fitted forms (lines), drag law (dashed)", fontsize=9)
     fig.tight_layout()
     path = os.path.join(out_dir, "coefficients_vs_incidence.png")
     fig.savefig(path, dpi=130)

@@ -10,6 +10,7 @@
 
 #include "study/coefficient_fit.hpp"
 #include "study/grid_convergence.hpp"
+#include "study/law_predictions.hpp"
 #include "study/study_directory.hpp"
 #include "study/study_spec.hpp"
 
@@ -27,6 +28,16 @@ const std::vector<std::string> kConvergedFigures{"drag_coefficient", "lift_coeff
                                                  "terminal_velocity_m_s", "terminal_vertical_velocity_m_s"};
 const std::vector<std::string> kEnsembleFigures{"terminal_velocity_m_s", "terminal_vertical_velocity_m_s",
                                                 "path_angle_deg", "tilt_mean_deg", "drag_coefficient"};
+
+constexpr const char* kHolzerSommerfeldColumn = "drag_coefficient_holzer_sommerfeld";
+
+// The law at the run's Reynolds number, for a done towed or fixed body (null otherwise).
+json law_drag(const fs::path& case_dir, const json& summary) {
+  if (!summary.is_object() || !summary.contains("reynolds") || !summary["reynolds"].is_number()) return json();
+  const std::optional<double> c =
+      holzer_sommerfeld_drag_of_case(case_dir / "case.toml", summary["reynolds"].get<double>());
+  return c ? json(*c) : json();
+}
 
 bool is_input(const StudyTable& t, const std::string& name) {
   return std::find(t.inputs.begin(), t.inputs.end(), name) != t.inputs.end();
@@ -234,6 +245,7 @@ StudyTable collect_table(const fs::path& dir) {
       const json::json_pointer pointer(f.summary_path);
       row[f.column] = summary.is_object() && summary.contains(pointer) ? summary[pointer] : json();
     }
+    row[kHolzerSommerfeldColumn] = law_drag(case_dir, summary);
     row["wall_seconds"] = status.wall_seconds;
     table.rows.push_back(row);
   }
@@ -246,6 +258,7 @@ std::string table_csv(const StudyTable& table) {
   columns.insert(columns.end(), table.inputs.begin(), table.inputs.end());
   for (const FigureColumn& f : figure_columns())
     if (!is_input(table, f.column)) columns.emplace_back(f.column);
+  columns.emplace_back(kHolzerSommerfeldColumn);
   columns.emplace_back("wall_seconds");
   for (std::size_t i = 0; i < columns.size(); ++i) out += (i ? "," : "") + columns[i];
   out += "\n";

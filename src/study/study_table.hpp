@@ -27,6 +27,8 @@ struct StudyTable {
 };
 
 /// Reads study.json, each case's status.json and summary.json. Figures a case lacks are null.
+/// Each row also has drag_coefficient_holzer_sommerfeld, the law for a towed or fixed body at the
+/// run's Reynolds number and the case's attitude (law_predictions.hpp).
 StudyTable collect_table(const std::filesystem::path& dir);
 
 /// The table as CSV: a header line, then a row per case; empty cells for nulls.
