@@ -198,7 +198,7 @@ inline BoxExtrapolation extrapolate_box(const RotatingSphereResult& small_box, c
 
 /// run_rotating_sphere at a resolution and box size, steady to 1e-5, with its figures printed.
 inline RotatingSphereResult run_rotating_sphere_printed(double cells_per_diameter, int box_cells,
-                                                       CouplingKind coupling = CouplingKind::immersed_boundary) {
+                                                        CouplingKind coupling = CouplingKind::immersed_boundary) {
   PeriodicSphereOptions o;
   o.coupling = coupling;
   o.cells_per_diameter = cells_per_diameter;

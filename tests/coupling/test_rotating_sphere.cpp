@@ -57,8 +57,10 @@ TEST(RotatingSphere, StokesTorqueAt16CellsPerDiameter) {
 // for the torque of that coupling, whose free sphere of Uhlmann and Dusek's case B spun up
 // (docs/notes.md, 2026-11-26). Same criterion and reasons as above.
 TEST(RotatingSphere, MomentumExchangeStokesTorqueAt16CellsPerDiameter) {
-  const RotatingSphereResult small_box = run_rotating_sphere_printed(16.0, 32, settle::coupling::CouplingKind::momentum_exchange);
-  const RotatingSphereResult large_box = run_rotating_sphere_printed(16.0, 48, settle::coupling::CouplingKind::momentum_exchange);
+  const RotatingSphereResult small_box =
+      run_rotating_sphere_printed(16.0, 32, settle::coupling::CouplingKind::momentum_exchange);
+  const RotatingSphereResult large_box =
+      run_rotating_sphere_printed(16.0, 48, settle::coupling::CouplingKind::momentum_exchange);
   const BoxExtrapolation e = extrapolate_box(small_box, large_box);
   std::printf("extrapolated to an unbounded fluid: %.4f (%+.2f%%), c = %.2f\n", e.ratio_infinite,
               100.0 * (e.ratio_infinite - 1.0), e.coefficient);
