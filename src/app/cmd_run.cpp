@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@
 #include "app/console.hpp"
 #include "app/output_values.hpp"
 #include "app/run_checkpoints.hpp"
+#include "app/run_directory_lock.hpp"
 #include "app/run_plan.hpp"
 #include "app/summary_fields.hpp"
 #include "body/surface_triangulation.hpp"
@@ -73,14 +75,17 @@ void check_flags(const RunOptions& options) {
 }
 
 // Called only after every check passed and the grid is allocated (file comment).
-void prepare_output_directory(const fs::path& dir) {
+// Creates the directory and takes its lock before anything in it changes.
+std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
+  auto lock = std::make_unique<RunDirectoryLock>(dir);
   fs::remove(dir / "summary.json", error);
   if (error)
     throw InputError(
         fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(), error.message()));
+  return lock;
 }
 
 // The run directory holds everything needed to read it again (settle analyze, a later restart):
@@ -393,7 +398,7 @@ void run_case(const RunOptions& options) {
                   sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)", omp_get_max_threads()));
 
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
-  prepare_output_directory(dir);
+  const std::unique_ptr<RunDirectoryLock> lock = prepare_output_directory(dir);
   const std::string resolved_case =
       restart ? restart->resolved_case()
               : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);

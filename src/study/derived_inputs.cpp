@@ -92,19 +92,38 @@ void set_incidence(io::CaseValues& values, double incidence_deg) {
   set_vector3(values, "particle.euler", attitude::set1_angles_from_matrix(turned));
 }
 
+// The run's length as diameters of travel of a towed body (or of inflow past a fixed one):
+// run.end_time = N d_eq / U, so that a map over Re costs the same travel, not the same seconds.
+void set_travel(io::CaseValues& values, double diameters, const std::filesystem::path& base_directory) {
+  if (!(diameters > 0.0)) throw InputError(fmt::format("travel_diameters: {} is not > 0", diameters));
+  const std::string& motion = values.string("particle.motion");
+  const char* key = motion == "towed"                                           ? "particle.towing_velocity"
+                    : motion == "fixed" && values.has("domain.inflow_velocity") ? "domain.inflow_velocity"
+                                                                                : nullptr;
+  if (key == nullptr || !values.has(key) || vector3(values, key).norm() <= 0.0)
+    throw InputError(
+        fmt::format("travel_diameters: the base case's body is {} without a towing or inflow speed; "
+                    "a free body's travel is an outcome (set run.end_time)",
+                    motion));
+  values.set("run.end_time",
+             io::Value(diameters * equivalent_diameter_m(values, base_directory) / vector3(values, key).norm()),
+             "study");
+}
+
 }  // namespace
 
 bool is_derived_input(std::string_view name) {
-  return name == "reynolds" || name == "incidence_deg" || name == "galileo";
+  return name == "reynolds" || name == "incidence_deg" || name == "galileo" || name == "travel_diameters";
 }
 
-std::string_view derived_input_names() { return "reynolds, incidence_deg, galileo"; }
+std::string_view derived_input_names() { return "reynolds, incidence_deg, galileo, travel_diameters"; }
 
 void set_derived_input(io::CaseValues& values, std::string_view name, double value,
                        const std::filesystem::path& base_directory) {
   if (name == "reynolds") return set_reynolds(values, value, base_directory);
   if (name == "galileo") return set_galileo(values, value, base_directory);
   if (name == "incidence_deg") return set_incidence(values, value);
+  if (name == "travel_diameters") return set_travel(values, value, base_directory);
   throw InputError(fmt::format("{}: not a derived input ({})", name, derived_input_names()));
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The inputs researchers think in, turned into case keys (docs/studies.md, "Derived inputs"):
-// the Reynolds number and the incidence of a towed body, the Galileo number of a free one, and
-// attitudes drawn uniformly on the rotation group for orientation ensembles.
+// the Reynolds number, the incidence and the length of run in diameters of travel of a towed body,
+// the Galileo number of a free one, and attitudes drawn uniformly on the rotation group for
+// orientation ensembles.
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
@@ -13,7 +14,8 @@
 
 namespace settle::study {
 
-/// True for the names a study may vary besides the case keys: reynolds, incidence_deg, galileo.
+/// True for the names a study may vary besides the case keys: reynolds, incidence_deg, galileo,
+/// travel_diameters.
 bool is_derived_input(std::string_view name);
 
 /// The names of is_derived_input, for messages.

@@ -224,11 +224,13 @@ double as_number(const io::Value& v, std::string_view name) {
 }
 
 // Case keys first, in the file's order, then the derived inputs, which read them (galileo sets the
-// viscosity that reynolds reads; incidence turns the attitude the case or an ensemble gave).
+// viscosity that reynolds reads, reynolds the speed that travel_diameters reads; incidence turns
+// the attitude the case or an ensemble gave).
 int derived_rank(std::string_view name) {
   if (name == "galileo") return 1;
   if (name == "reynolds") return 2;
   if (name == "incidence_deg") return 3;
+  if (name == "travel_diameters") return 4;  // reads the speed reynolds set
   return 0;
 }
 
@@ -261,6 +263,8 @@ void check_conflicts(const StudySpec& spec) {
   const std::string origin = spec.study_file.string();
   if (varies("reynolds") && varies("particle.towing_velocity"))
     throw InputError(fmt::format("{}: vary.reynolds sets particle.towing_velocity, which is varied too", origin));
+  if (varies("travel_diameters") && varies("run.end_time"))
+    throw InputError(fmt::format("{}: vary.travel_diameters sets run.end_time, which is varied too", origin));
   if (varies("galileo") && varies("fluid.dynamic_viscosity"))
     throw InputError(fmt::format("{}: vary.galileo sets fluid.dynamic_viscosity, which is varied too", origin));
   if (spec.orientations.count > 0 && varies("particle.euler"))

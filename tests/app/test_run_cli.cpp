@@ -1,6 +1,7 @@
 // Case tests of `settle run`: the real binary (SETTLE_BINARY) on tiny cases; the output files
 // that are contracts (docs/architecture.md, "Contracts": exact CSV header, summary keys, resolved case) and the refusal of bad
 // input with exit status 2 and a message naming the key.
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -331,6 +332,38 @@ TEST(RunCli, DryRunRefusesARestart) {
   const Result r = run_settle("--dry-run --restart " + scratch("dry_run_restart").string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--dry-run"), std::string::npos) << r.err;
+}
+
+}  // namespace test_run_cli
+
+namespace test_run_cli {
+
+// Two runs writing one directory would interleave their time series and overwrite each other's
+// checkpoints: the second is refused while the first lives (app/run_directory_lock.hpp), and the
+// directory is free again once the first has ended, however it ended.
+TEST(RunCli, ASecondRunIntoALiveRunsDirectoryIsRefused) {
+  const fs::path dir = settle::test::scratch("run_lock");
+  fs::remove_all(dir);
+  const std::string towed = std::string(SETTLE_SOURCE_DIR) + "/cases/towed_sphere.toml";
+  const pid_t first = fork();
+  ASSERT_GE(first, 0);
+  if (first == 0) {
+    ::execl(std::getenv("SETTLE_BINARY"), "settle", "run", towed.c_str(), "-o", dir.c_str(), "-q", "--set",
+            "numerics.cells_per_diameter=5", "--set", "run.end_time=100", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // The lock file appears once the first run has passed its checks and taken the directory.
+  for (int i = 0; i < 3000 && !fs::exists(dir / "case.resolved.toml"); ++i) ::usleep(10000);
+  ASSERT_TRUE(fs::exists(dir / "case.resolved.toml"));
+  const auto second = settle::test::run_settle("run", towed + " -o " + dir.string() + " --set run.end_time=0.01");
+  EXPECT_EQ(second.status, 2);
+  EXPECT_NE(second.err.find("another settle run is writing this directory"), std::string::npos) << second.err;
+  ::kill(first, SIGKILL);  // no checkpoint, no clean exit: the kernel still releases the lock
+  int status = 0;
+  ASSERT_EQ(::waitpid(first, &status, 0), first);
+  const auto third = settle::test::run_settle(
+      "run", towed + " -o " + dir.string() + " -q --set numerics.cells_per_diameter=5 --set run.end_time=0.01");
+  EXPECT_EQ(third.status, 0) << third.err;
 }
 
 }  // namespace test_run_cli

@@ -59,6 +59,14 @@ TEST(DerivedInputs, ReynoldsSetsTheTowingSpeedFromTheEquivalentDiameter) {
   EXPECT_NEAR(u.normalized().z(), -1.0, 1e-15);  // the base case's direction kept
 }
 
+TEST(DerivedInputs, TravelSetsTheEndTimeFromTheSpeedAndTheEquivalentDiameter) {
+  io::CaseValues v = io::load_case_text(kTowedSpheroid, "test");
+  study::set_derived_input(v, "travel_diameters", 20.0, ".");
+  EXPECT_NEAR(v.real("run.end_time"), 20.0 * 1.0e-3 * std::cbrt(2.5) / 0.01, 1e-14);
+  io::CaseValues free_body = io::load_case_text(kFreeSphere, "test");
+  EXPECT_THROW(study::set_derived_input(free_body, "travel_diameters", 20.0, "."), InputError);
+}
+
 TEST(DerivedInputs, GalileoSetsTheViscosityThatGivesItBack) {
   io::CaseValues v = io::load_case_text(kFreeSphere, "test");
   study::set_derived_input(v, "galileo", 178.46, ".");

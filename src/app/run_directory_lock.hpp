@@ -1,0 +1,26 @@
+#pragma once
+// One `settle run` at a time per output directory: a second run or restart into a directory that a
+// live run is writing would interleave two time series and overwrite each other's checkpoints
+// (seen on 2026-11-26: docs/notes.md). An advisory flock(2) on DIR/.settle_run.lock, held for the
+// process's life and released by the kernel however the process ends, so a killed run leaves no
+// stale lock behind.
+#include <filesystem>
+
+namespace settle::app {
+
+class RunDirectoryLock {
+ public:
+  /// Takes the lock of `dir` (which must exist); settle::InputError naming the directory when
+  /// another process holds it.
+  explicit RunDirectoryLock(const std::filesystem::path& dir);
+  ~RunDirectoryLock();
+  RunDirectoryLock(const RunDirectoryLock&) = delete;
+  RunDirectoryLock& operator=(const RunDirectoryLock&) = delete;
+
+  static constexpr const char* kFileName = ".settle_run.lock";
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace settle::app
