@@ -1,5 +1,5 @@
-// settle study run / collect / task on tiny studies of the towed sphere (5 cells per diameter, a
-// few hundred steps a case).
+// settle study run / collect / task on tiny studies of the towed sphere (4 cells per diameter, at
+// most a few hundred steps a case: the sanitizer build runs them too).
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 
 std::string study_text(const std::string& vary, double end_time_s) {
   return std::string("[study]\nbase = \"") + SETTLE_SOURCE_DIR + "/cases/towed_sphere.toml\"\n[vary]\n" + vary +
-         "\nrun.end_time = [" + std::to_string(end_time_s) + "]\nnumerics.cells_per_diameter = [5]\n";
+         "\nrun.end_time = [" + std::to_string(end_time_s) + "]\nnumerics.cells_per_diameter = [4]\n";
 }
 
 fs::path fresh_dir(const std::string& name) {
@@ -61,7 +61,7 @@ pid_t spawn_settle(const std::vector<std::string>& arguments) {
 
 TEST(StudyCli, AnInterruptedStudyResumesKeepingItsFinishedCasesAndCollects) {
   const fs::path dir = fresh_dir("study_resume");
-  std::ofstream(dir / "study.toml") << study_text("reynolds = [5, 10, 20]", 0.5);
+  std::ofstream(dir / "study.toml") << study_text("reynolds = [5, 10, 20]", 0.15);
   const fs::path out = dir / "out";
   const pid_t study =
       spawn_settle({"study", "run", (dir / "study.toml").string(), "-o", out.string(), "--threads", "1"});
@@ -77,9 +77,13 @@ TEST(StudyCli, AnInterruptedStudyResumesKeepingItsFinishedCasesAndCollects) {
   EXPECT_NE(state_of(out / "case_0002"), "done");  // one case at a time: the third never finished
   const auto kept_time = fs::last_write_time(out / "case_0000" / "summary.json");
 
+  // The first case, and the second if it ended before the signal came: kept, not run again.
+  const int done_before = state_of(out / "case_0001") == "done" ? 2 : 1;
   const CliResult again = run_settle("study", "run " + (dir / "study.toml").string() + " -o " + out.string());
   ASSERT_EQ(again.status, 0) << again.err;
-  EXPECT_NE(again.err.find("all 3 cases done (1 kept from before)"), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("all 3 cases done (" + std::to_string(done_before) + " kept from before)"),
+            std::string::npos)
+      << again.err;
   EXPECT_EQ(fs::last_write_time(out / "case_0000" / "summary.json"), kept_time);
 
   const CliResult collected = run_settle("study", "collect --no-plots " + out.string());
@@ -89,8 +93,9 @@ TEST(StudyCli, AnInterruptedStudyResumesKeepingItsFinishedCasesAndCollects) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;
   const auto table = nlohmann::json::parse(read_text(out / "study_results.json"));
   ASSERT_EQ(table["rows"].size(), 3u);
-  // The drag coefficient falls with the Reynolds number (Clift, Grace and Weber's curve: 6.7, 4.2
-  // and 2.7 at Re = 5, 10, 20, ratios far beyond the 5-cell grid's error of some 10%).
+  // The drag coefficient falls with the Reynolds number: impulsively started and averaged over
+  // t = 0.075-0.15 s it is above the steady curve (Clift, Grace and Weber: 6.7, 4.2, 2.7 at Re =
+  // 5, 10, 20), measured 11.2, 6.1 and 3.6 here, each step a factor far beyond the 4-cell grid's error.
   double previous = 1e9;
   for (const auto& row : table["rows"]) {
     EXPECT_EQ(row["status"], "done");
