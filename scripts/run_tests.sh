@@ -8,7 +8,7 @@
 #               (scripts/run_sanitizer_tests.sh)
 #   fuzz        build the libFuzzer targets with clang and fuzz the case parser and the STL
 #               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
-# On the 2-core development machine, 2026-11-26, from a clean clone: 10, 14 and 3 minutes
+# On the 2-core development machine, 2026-11-26, from a clean clone: 10-11, 14-16 and 3-4 minutes
 # (docs/notes.md, "The test command's time").
 # SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
 # Validation runs are separate (docs/validation.md).
