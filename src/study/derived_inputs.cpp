@@ -97,9 +97,7 @@ void set_incidence(io::CaseValues& values, double incidence_deg) {
 void set_travel(io::CaseValues& values, double diameters, const std::filesystem::path& base_directory) {
   if (!(diameters > 0.0)) throw InputError(fmt::format("travel_diameters: {} is not > 0", diameters));
   const std::string& motion = values.string("particle.motion");
-  const char* key = motion == "towed"                                           ? "particle.towing_velocity"
-                    : motion == "fixed" && values.has("domain.inflow_velocity") ? "domain.inflow_velocity"
-                                                                                : nullptr;
+  const char* key = relative_flow_key(values);
   if (key == nullptr || !values.has(key) || vector3(values, key).norm() <= 0.0)
     throw InputError(
         fmt::format("travel_diameters: the base case's body is {} without a towing or inflow speed; "
@@ -111,6 +109,13 @@ void set_travel(io::CaseValues& values, double diameters, const std::filesystem:
 }
 
 }  // namespace
+
+const char* relative_flow_key(const io::CaseValues& values) {
+  const std::string& motion = values.string("particle.motion");
+  if (motion == "towed") return "particle.towing_velocity";
+  if (motion == "fixed" && values.has("domain.inflow_velocity")) return "domain.inflow_velocity";
+  return nullptr;
+}
 
 bool is_derived_input(std::string_view name) {
   return name == "reynolds" || name == "incidence_deg" || name == "galileo" || name == "travel_diameters";

@@ -27,6 +27,11 @@ std::string_view derived_input_names();
 void set_derived_input(io::CaseValues& values, std::string_view name, double value,
                        const std::filesystem::path& base_directory);
 
+/// The case key that sets the relative flow: particle.towing_velocity for a towed body,
+/// domain.inflow_velocity for a fixed body in an inflow; nullptr otherwise (a free body's flow is an
+/// outcome of its run).
+const char* relative_flow_key(const io::CaseValues& values);
+
 /// `count` rotations uniform on SO(3) (Shoemake 1992, "Uniform random rotations", Graphics Gems
 /// III, 124-132: a unit quaternion from three uniform numbers), from std::mt19937_64 seeded with
 /// `seed`, whose output the C++ standard fixes: the same seed gives the same rotations everywhere.

@@ -5,6 +5,7 @@
 #include "body/shape_factors.hpp"
 #include "body/shape_factory.hpp"
 #include "io/case.hpp"
+#include "study/derived_inputs.hpp"
 
 namespace settle::study {
 namespace {
@@ -17,10 +18,7 @@ Eigen::Vector3d vector3(const io::CaseValues& values, std::string_view key) {
 // The direction of the relative flow in the inertial frame (its sign does not matter to the
 // shadows the sphericities need).
 std::optional<Eigen::Vector3d> flow_direction(const io::CaseValues& values) {
-  const std::string& motion = values.string("particle.motion");
-  const char* key = motion == "towed"                                           ? "particle.towing_velocity"
-                    : motion == "fixed" && values.has("domain.inflow_velocity") ? "domain.inflow_velocity"
-                                                                                : nullptr;
+  const char* key = relative_flow_key(values);
   if (key == nullptr || !values.has(key)) return std::nullopt;
   const Eigen::Vector3d v = vector3(values, key);
   if (v.norm() <= 0.0) return std::nullopt;
