@@ -77,7 +77,8 @@ class BodyCoupling {
   /// Surface elements per step: markers, or links of the last placement.
   virtual std::size_t surface_element_count() const = 0;
   /// What the coupling carries from one step to the next, for checkpoints: the immersed
-  /// boundary's internal fluid momentum (linear, angular), zeros for the momentum exchange.
+  /// boundary's internal fluid momentum (linear, angular), the momentum exchange's previous link
+  /// sum (force, torque).
   virtual std::array<double, 6> carried_state() const = 0;
   virtual void restore_carried_state(const std::array<double, 6>& state) = 0;
 };

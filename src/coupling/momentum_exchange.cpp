@@ -99,6 +99,7 @@ CellBox MomentumExchangeCoupling::box_at(const Eigen::Vector3d& centre, const Ei
 }
 
 void MomentumExchangeCoupling::start(lbm::Solver& fluid, const LatticePose& pose) {
+  previous_links_ = LatticeWrench{};
   // The fluid starts at rest inside the body too; the first impose makes those cells solid.
   place(fluid, pose);
 }
@@ -148,18 +149,33 @@ void MomentumExchangeCoupling::impose(lbm::Solver& fluid) {
 }
 
 CouplingForces MomentumExchangeCoupling::measure(const lbm::Solver& fluid) {
-  CouplingForces f;
+  LatticeWrench links;
   const auto& momentum = fluid.wall_momentum();
   for (std::size_t k = 0; k < momentum.size(); ++k) {
-    f.surface.force += momentum[k];
-    f.surface.torque += (walls_.crossing[k] - pose_.centre).cross(momentum[k]);
+    links.force += momentum[k];
+    links.torque += (walls_.crossing[k] - pose_.centre).cross(momentum[k]);
   }
+  CouplingForces f;
+  f.surface.force = 0.5 * (links.force + previous_links_.force);
+  f.surface.torque = 0.5 * (links.torque + previous_links_.torque);
+  previous_links_ = links;
   // A body force on the fluid stands for a mean pressure gradient, which pushes on the body's
   // volume too; inside an immersed boundary the enclosed fluid passes it on, here the solid
   // cells take it directly.
   f.total = f.surface;
   f.total.force += fluid.config().body_force * static_cast<double>(fluid.solid_cell_count());
   return f;
+}
+
+std::array<double, 6> MomentumExchangeCoupling::carried_state() const {
+  const auto& f = previous_links_.force;
+  const auto& t = previous_links_.torque;
+  return {f.x(), f.y(), f.z(), t.x(), t.y(), t.z()};
+}
+
+void MomentumExchangeCoupling::restore_carried_state(const std::array<double, 6>& state) {
+  previous_links_.force = Eigen::Vector3d(state[0], state[1], state[2]);
+  previous_links_.torque = Eigen::Vector3d(state[3], state[4], state[5]);
 }
 
 }  // namespace settle::coupling
