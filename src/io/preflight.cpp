@@ -211,8 +211,19 @@ double sample_count(const coupling::SimulationSetup& s, double steps) {
   return std::min(steps, per_interval) + 2.0;
 }
 
-std::vector<std::string> advisories(const coupling::SimulationSetup& s, double dx_si, double dt_si) {
+// Below this tau a velocity inlet under TRT (magic 3/16) was found to diverge; BGK and the
+// recursive regularised operator stay stable there (docs/lbm.md, "Inlets and outlets": diverged at
+// 0.512, stable at 0.55). An advisory, not an error: the threshold is measured, not derived.
+constexpr double kTrtInletStableTau = 0.52;
+
+std::vector<std::string> advisories(const coupling::SimulationSetup& s, double dx_si, double dt_si, double tau) {
   std::vector<std::string> out;
+  if (s.inflow && s.collision == lbm::CollisionKind::trt && tau < kTrtInletStableTau)
+    out.push_back(
+        fmt::format("numerics.collision: \"trt\" with an inlet (domain.inflow) at tau = {:.4f}, below "
+                    "about {}, where this inlet was found to diverge (docs/lbm.md, Inlets and outlets); "
+                    "use numerics.collision = \"recursive_regularized\", or raise tau",
+                    tau, kTrtInletStableTau));
   const body::Aabb box = s.shape->bounding_box();
   const double thinnest_cells = (box.upper - box.lower).minCoeff() / dx_si;
   if (thinnest_cells < 2.0)
@@ -424,7 +435,7 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   if (r.memory_budget_bytes) check_memory(r.memory, *r.memory_budget_bytes, r.memory_budget_source);
 
   if (!options.output_directory.empty()) check_output_directory(options.output_directory);
-  r.warnings = advisories(s, dx_si, dt_si);
+  r.warnings = advisories(s, dx_si, dt_si, r.plan.units.tau());
   return r;
 }
 
