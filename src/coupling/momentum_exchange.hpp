@@ -20,9 +20,9 @@
 // non-equilibrium part taken from one neighbour instead of extrapolated). Cells the body covers
 // leave the fluid; their content is dropped. Approximation: the momentum the covered and
 // uncovered cells carry is not added to the body's force (Wen et al. 2014 show that their
-// Galilean-invariant exchange leaves these terms' effect small; at tau near 1/2, in Uhlmann and
-// Dusek's case B, adding them changed the free sphere's path: docs/notes.md, 2026-11-26, "Case B's
-// spin", control 9).
+// Galilean-invariant exchange leaves these terms' effect small; in Uhlmann and Dusek's case B,
+// adding them in balance left the path as it was: docs/notes.md, 2026-11-26, "Case B's spin",
+// controls 9 and 10).
 //
 // The wrench a step reports is the mean of the link sums of that step and the one before. A body
 // that moves across the grid makes the link sum alternate from one step to the next (measured: the
