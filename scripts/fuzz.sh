@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# Fuzzes the case parser and the STL reader (docs/fuzzing.md): builds tests/fuzz with clang and
-# libFuzzer (SETTLE_FUZZ=ON: ASan + UBSan + coverage), then runs each target for SECONDS
-# (default 60) in one process. Crash, timeout and out-of-memory inputs go to $BUILD/findings/;
-# the script exits with status 1 when any target found something.
+# Fuzzes the case parser and the STL reader (docs/fuzzing.md): builds the two targets of tests/fuzz
+# in the sanitizer build (the debug preset: clang, ASan + UBSan, libFuzzer's coverage on the modules
+# they drive; shared with scripts/run_sanitizer_tests.sh, so after that stage only the targets are
+# left to link), then runs each target for SECONDS (default 60) in one process. Crash, timeout and
+# out-of-memory inputs go to build/debug/findings/; the script exits with status 1 when any target
+# found something.
 #
 #   scripts/fuzz.sh [SECONDS]
 #
-# Environment: SETTLE_FUZZ_BUILD_DIR (default build/fuzz), SETTLE_FUZZ_JOBS (build jobs,
-# default: all cores). The corpus each target grows is kept in $BUILD/corpus/<target> and reused
-# by the next run; the seeds are tests/fuzz/corpus_case and tests/fuzz/corpus_stl.
+# Environment: SETTLE_FUZZ_JOBS (build jobs, default: all cores). The corpus each target grows is
+# kept in build/debug/corpus/<target> and reused by the next run; the seeds are
+# tests/fuzz/corpus_case and tests/fuzz/corpus_stl.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -17,15 +19,12 @@ if ! [[ $seconds =~ ^[1-9][0-9]*$ ]]; then
   echo "usage: scripts/fuzz.sh [SECONDS]  (a positive whole number of seconds per target, got '$seconds')" >&2
   exit 2
 fi
-build=${SETTLE_FUZZ_BUILD_DIR:-build/fuzz}
+build=build/debug
 jobs=${SETTLE_FUZZ_JOBS:-$(nproc)}
 
-# clang, libFuzzer (libclang-rt) and clang's OpenMP runtime: only this step needs them.
-bash scripts/install-deps.sh clang-14 libclang-rt-14-dev libomp-14-dev
-
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++-14 -DSETTLE_FUZZ=ON \
-  -DSETTLE_BUILD_TESTS=OFF -DSETTLE_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build "$build" -j "$jobs" --target fuzz_case fuzz_stl
+bash scripts/install-deps.sh --clang
+cmake --preset debug >/dev/null
+cmake --build --preset debug -j "$jobs" --target fuzz_case fuzz_stl
 
 findings="$build/findings"
 mkdir -p "$findings" "$build/logs"

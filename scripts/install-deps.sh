@@ -16,8 +16,11 @@ packages=(
   libbenchmark-dev      # micro-benchmarks
   python3-matplotlib python3-numpy       # `settle plot`
 )
-# Extra packages for one step only, e.g. scripts/fuzz.sh passes clang and libFuzzer.
-packages+=("$@")
+# `--clang`: the sanitizer build's compiler (CMakePresets.json, debug), libFuzzer and clang's OpenMP
+# runtime, for the sanitizer and fuzz stages only. Other arguments are extra packages.
+for arg in "$@"; do
+  if [[ $arg == --clang ]]; then packages+=(clang-14 libclang-rt-14-dev libomp-14-dev); else packages+=("$arg"); fi
+done
 
 missing=()
 for p in "${packages[@]}"; do

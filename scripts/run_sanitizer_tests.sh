@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# Sanitizer stage of CI (docs/fuzzing.md): installs what is missing (Debian packages),
-# builds the debug preset (build/debug: the library and the front end instrumented with
+# Sanitizer stage of CI (docs/fuzzing.md): installs what is missing (Debian packages, clang),
+# builds the debug preset (build/debug, clang: the library and the front end instrumented with
 # AddressSanitizer + UndefinedBehaviorSanitizer at -O1 -g1; the tests' own code is not, but links
-# the runtimes) and runs its unit and case tests. The debug test preset leaves out the tests labelled `heavy`
+# the runtimes; the fuzz targets of the next stage are built in the same tree) and runs its unit
+# and case tests. The debug test preset leaves out the tests labelled `heavy`
 # (tests/heavy_tests.cmake: long numerical runs, still run by the release preset of
 # scripts/run_tests.sh). A sanitizer report fails the test that triggered it (halt_on_error,
 # abort_on_error in the preset).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --clang
 cmake --preset debug >/dev/null
 cmake --build --preset debug
 

@@ -382,7 +382,9 @@ class AaSolver final : public Solver {
     // true. (`omp simd` made GCC 12 keep the row pointers in memory and give up.)
     const Arith body_x = static_cast<Arith>(body[0]), body_y = static_cast<Arith>(body[1]),
                 body_z = static_cast<Arith>(body[2]);
+#if !defined(__clang__)  // clang's sanitizer build (-O1) does not vectorise
 #pragma GCC ivdep
+#endif
     for (int x = 0; x < n; ++x) {
       Arith g[Q];
 #pragma GCC unroll 32

@@ -15,8 +15,10 @@
 
 // GCC 12 reports the moves of io::Value (a std::variant holding a std::vector) in this file as
 // maybe uninitialised and as oversized copies: known false positives of its inliner diagnostics.
+#if !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wstringop-overflow"
+#endif
 
 namespace settle::study {
 namespace {

@@ -144,7 +144,9 @@ json fit_json(const json& others, const char* figure, const char* form, const st
 json coefficient_fits_json(const StudyTable& t) {
   json out = json::array();
   if (std::find(t.inputs.begin(), t.inputs.end(), kIncidenceKey) == t.inputs.end()) return out;
-  for (const auto& [others, rows] : group_by_others(t, kIncidenceKey)) {
+  for (const auto& group : group_by_others(t, kIncidenceKey)) {
+    const json& others = group.first;
+    const std::vector<const json*>& rows = group.second;  // a lambda may not capture a structured binding in clang 14
     const auto series = [&](const std::string& figure, std::vector<double>& phi, std::vector<double>& c) {
       for (const json* row : rows)
         if (has_number(*row, figure)) {

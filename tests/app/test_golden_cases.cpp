@@ -4,8 +4,8 @@
 // tests/data/golden_cases.json. A change that moves results, by design or by accident, fails here;
 // when the change is meant, regenerate the file as its "about" entry says and review the diff.
 //
-// Why these tolerances. The release and sanitizer builds compile the same code for baseline
-// x86-64 without -ffast-math and without FMA instructions, so GCC keeps the order of every
+// Why these tolerances. The release (GCC) and sanitizer (clang) builds compile the same code for
+// baseline x86-64 without -ffast-math and without FMA instructions, so both keep the order of every
 // floating-point operation, and the coupled step is bit for bit independent of the thread count
 // (every parallel loop writes disjoint cells, docs/coupling.md); the stored values are therefore
 // reproduced exactly, and the tolerances only leave room for round-off that a legitimate change of

@@ -351,7 +351,7 @@ TEST(DryImpact, ElasticImpactsOfTiltedBodiesConserveEnergy) {
       {"superellipsoid", std::make_shared<Superellipsoid>(Eigen::Vector3d(0.3, 0.5, 0.7), 0.6, 0.9)},
       {"mesh", std::make_shared<MeshShape>(testing::box_mesh(Eigen::Vector3d(0.4, 0.8, 1.0)), "box")}};
   for (const auto& [name, shape] : shapes) {
-    const auto drift_with = [&, &shape = shape](int substeps) {
+    const auto drift_with = [&, name = name, &shape = shape](int substeps) {
       Rig rig = sphere_rig(1.0);
       rig.shape = shape;
       rig.mass = shape->mass_properties(1500.0);
