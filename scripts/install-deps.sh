@@ -14,6 +14,7 @@ packages=(
   libeigen3-dev         # small linear algebra (attitude, inertia)
   libgtest-dev libgmock-dev googletest   # tests
   libbenchmark-dev      # micro-benchmarks
+  libopenmpi-dev openmpi-bin             # one run across many processes (docs/parallel.md)
   python3-matplotlib python3-numpy       # `settle plot`
 )
 # `--clang`: the sanitizer build's compiler (CMakePresets.json, debug), libFuzzer and clang's OpenMP

@@ -3,12 +3,12 @@
 # packages) and runs three stages, each of which fails the whole command:
 #   release     check the layout of the C++ files (scripts/check_format.sh), build the release
 #               preset, run the unit and case tests (labels unit|case)
-#   sanitizers  build the debug preset (AddressSanitizer + UndefinedBehaviorSanitizer on the
-#               library and the front end) and run the unit and case tests but the `heavy` ones
-#               (scripts/run_sanitizer_tests.sh)
-#   fuzz        build the libFuzzer targets with clang and fuzz the case parser and the STL
+#   sanitizers  build the debug preset with clang (AddressSanitizer + UndefinedBehaviorSanitizer on
+#               the library and the front end; the fuzz targets in the same tree) and run the unit
+#               and case tests but the `heavy` ones (scripts/run_sanitizer_tests.sh)
+#   fuzz        link the libFuzzer targets of that build and fuzz the case parser and the STL
 #               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
-# On the 2-core development machine, 2026-11-26, from a clean clone: 10-11, 14-16 and 3-4 minutes
+# On the 2-core development machine, 2026-11-26, from a clean clone: about 10, 13 and 1 minutes
 # (docs/notes.md, "The test command's time").
 # SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
 # Validation runs are separate (docs/validation.md).

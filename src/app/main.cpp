@@ -8,11 +8,13 @@
 
 #include "app/commands.hpp"
 #include "common/error.hpp"
+#include "parallel/communicator.hpp"
 #include "settle/version.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"settle: resolved simulation of rigid particles of any shape settling in a quiescent fluid"};
-  app.set_version_flag("--version", fmt::format("settle {}", settle::version_string));
+  app.set_version_flag("--version",
+                       fmt::format("settle {}, {}", settle::version_string, settle::parallel::mpi_library_version()));
   app.require_subcommand(1);
   settle::app::add_attitude_command(app);
   settle::app::add_shape_command(app);

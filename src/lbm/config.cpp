@@ -64,6 +64,15 @@ void validate(const SolverConfig& config) {
     throw InputError("lbm.body_force: must be finite");
   }
   validate_open_faces(config);
+  if (config.split) {
+    validate(*config.split);
+    const std::array<int, 3> extent = config.split->extent(config.split->rank);
+    if (extent != std::array<int, 3>{config.nx, config.ny, config.nz}) {
+      throw InputError(fmt::format("lbm.split: block {} holds {} x {} x {} cells, the solver {} x {} x {}",
+                                   config.split->rank, extent[0], extent[1], extent[2], config.nx, config.ny,
+                                   config.nz));
+    }
+  }
 }
 
 FaceKinds face_kinds(const SolverConfig& config) {

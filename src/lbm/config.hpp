@@ -3,8 +3,11 @@
 // reference density 1).
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "lbm/decomposition.hpp"
 
 namespace settle::lbm {
 
@@ -58,6 +61,9 @@ struct SolverConfig {
   /// walls exactly mid-way between nodes for any viscosity (Ginzburg et al. 2008).
   double magic = 3.0 / 16.0;
   Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  ///< uniform force density
+  /// Set when the solver holds one block of a split lattice: nx, ny, nz are then that block's
+  /// extent, while `boundaries` and `open_faces` describe the faces of the whole lattice.
+  std::optional<BlockSplit> split;
 };
 
 /// The kind of each face, [axis][side]: the pair's kind unless an open face replaces it.

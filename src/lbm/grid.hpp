@@ -14,9 +14,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "lbm/config.hpp"
+#include "lbm/decomposition.hpp"
 #include "lbm/lattice.hpp"
 
 namespace settle::lbm {
@@ -148,15 +150,37 @@ struct CopyLists {
   std::vector<ShiftedCopyEntry> fold_shifted;
 };
 
-template <Lattice L>
-CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
-  CopyLists lists;
-  const std::array<int, 3> extent{layout.nx, layout.ny, layout.nz};
-  const auto slot = [&](int q, const std::array<int, 3>& cell) {
-    return static_cast<std::size_t>(q) * layout.pop_stride + layout.index(cell[0], cell[1], cell[2]);
-  };
+/// What a block of a split lattice (lbm/decomposition.hpp) exchanges with one adjacent block in
+/// every step: the links of the receiving block whose source population lies in the sending one.
+/// Both sides list them in the receiving block's order (for_each_block_link), so the k-th value of
+/// a message goes to the k-th receive slot:
+///  - fill_send, fold_send (and the shifted ones of outlets): entries evaluated as the copy lists
+///    are at the same point of the step (fill after an even kernel, fold after an odd one), their
+///    `dst` the position in the message;
+///  - fill_receive, fold_receive: the slots (absolute element indices) the values go to, those the
+///    copy lists would write if the sending block's cells were here.
+struct HaloLinks {
+  int rank = 0;
+  std::vector<CopyEntry> fill_send, fold_send;
+  std::vector<ShiftedCopyEntry> fill_send_shifted, fold_send_shifted;
+  std::vector<std::size_t> fill_receive, fold_receive;
+};
+
+/// A block's own copy lists and its exchanges with each adjacent block (ascending rank).
+struct BlockLists {
+  CopyLists local;
+  std::vector<HaloLinks> halo;
+};
+
+/// Calls visit(x, i, source) for every link (x, i) of block `rank` (x in the block's coordinates)
+/// whose upstream cell x - c_i lies outside the block, in the order z, y, x, i. `source` (global
+/// coordinates) says where f_i(x) comes from: the plain stream from the adjacent block when the
+/// upstream cell is inside the lattice, pull_source at the lattice's faces otherwise.
+template <Lattice L, class Visit>
+void for_each_block_link(const BlockSplit& split, int rank, const FaceKinds& kinds, Visit&& visit) {
+  const std::array<int, 3> origin = split.offset(rank), extent = split.extent(rank);
   const auto on_face = [&](const std::array<int, 3>& x) {
-    for (int a = 0; a < 3; ++a) {
+    for (std::size_t a = 0; a < 3; ++a) {
       if (x[a] == 0 || x[a] == extent[a] - 1) return true;
     }
     return false;
@@ -166,34 +190,97 @@ CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
     for (x[1] = 0; x[1] < extent[1]; ++x[1]) {
       for (x[0] = 0; x[0] < extent[0]; ++x[0]) {
         if (!on_face(x)) continue;
+        const std::array<int, 3> g{x[0] + origin[0], x[1] + origin[1], x[2] + origin[2]};
         for (int i = 1; i < L::Q; ++i) {
           const auto& c = L::set.c[i];
-          const std::array<int, 3> upstream{x[0] - c[0], x[1] - c[1], x[2] - c[2]};
-          bool outside = false;
-          for (int a = 0; a < 3; ++a) outside |= upstream[a] < 0 || upstream[a] >= extent[a];
-          if (!outside) continue;
-          const PullSource src = pull_source<L>(x, i, extent, kinds);
-          const auto& cj = L::set.c[src.link.dir];
-          const std::array<int, 3> src_ghost{src.link.cell[0] + cj[0], src.link.cell[1] + cj[1],
-                                             src.link.cell[2] + cj[2]};
-          const std::size_t fill_dst = slot(opposite(i), upstream),
-                            fill_src = slot(opposite(src.link.dir), src.link.cell);
-          const std::size_t fold_dst = slot(i, x), fold_src = slot(src.link.dir, src_ghost);
-          if (src.shifted) {
-            const auto& m = src.moment_cell;
-            const std::size_t cell = layout.index(m[0], m[1], m[2]);
-            const int dir = src.equilibrium ? i : -1;
-            lists.fill_shifted.push_back({fill_dst, fill_src, src.wall_term, dir, cell});
-            lists.fold_shifted.push_back({fold_dst, fold_src, src.wall_term, dir, cell});
-          } else {
-            lists.fill.push_back({fill_dst, fill_src});
-            lists.fold.push_back({fold_dst, fold_src});
+          bool leaves_block = false, leaves_lattice = false;
+          for (std::size_t a = 0; a < 3; ++a) {
+            leaves_block |= x[a] - c[a] < 0 || x[a] - c[a] >= extent[a];
+            leaves_lattice |= g[a] - c[a] < 0 || g[a] - c[a] >= split.global[a];
           }
+          if (!leaves_block) continue;
+          const PullSource source = leaves_lattice ? pull_source<L>(g, i, split.global, kinds)
+                                                   : PullSource{{{g[0] - c[0], g[1] - c[1], g[2] - c[2]}, i}};
+          visit(x, i, source);
         }
       }
     }
   }
-  return lists;
+}
+
+/// The copy lists and halo links of block split.rank, whose populations `layout` describes.
+template <Lattice L>
+BlockLists build_block_lists(const GridLayout& layout, const FaceKinds& kinds, const BlockSplit& split) {
+  BlockLists out;
+  const std::array<int, 3> origin = split.offset(split.rank);
+  const auto local = [&](const std::array<int, 3>& g) {
+    return std::array<int, 3>{g[0] - origin[0], g[1] - origin[1], g[2] - origin[2]};
+  };
+  const auto slot = [&](int q, const std::array<int, 3>& cell) {
+    return static_cast<std::size_t>(q) * layout.pop_stride + layout.index(cell[0], cell[1], cell[2]);
+  };
+  // The entries of link (x, i) fed from `source`, a cell of this block: fill writes fill_dst from
+  // the slot holding f*_dir(cell) after an even kernel, fold writes fold_dst from the ghost slot
+  // the odd kernel of cell wrote it to.
+  const auto add = [&](CopyLists& lists, std::size_t fill_dst, std::size_t fold_dst, int i, const PullSource& source) {
+    const std::array<int, 3> cell = local(source.link.cell);
+    const auto& cj = L::set.c[source.link.dir];
+    const std::array<int, 3> ghost{cell[0] + cj[0], cell[1] + cj[1], cell[2] + cj[2]};
+    const std::size_t fill_src = slot(opposite(source.link.dir), cell), fold_src = slot(source.link.dir, ghost);
+    if (!source.shifted) {
+      lists.fill.push_back({fill_dst, fill_src});
+      lists.fold.push_back({fold_dst, fold_src});
+      return;
+    }
+    const std::array<int, 3> m = local(source.moment_cell);
+    const std::size_t moment = layout.index(m[0], m[1], m[2]);
+    const int dir = source.equilibrium ? i : -1;
+    lists.fill_shifted.push_back({fill_dst, fill_src, source.wall_term, dir, moment});
+    lists.fold_shifted.push_back({fold_dst, fold_src, source.wall_term, dir, moment});
+  };
+
+  std::vector<CopyLists> sends;
+  for (const int r : split.adjacent_ranks()) {
+    out.halo.emplace_back().rank = r;
+    sends.emplace_back();
+  }
+  const auto halo_of = [&](int r) -> std::size_t {
+    for (std::size_t k = 0; k < out.halo.size(); ++k)
+      if (out.halo[k].rank == r) return k;
+    throw std::logic_error("build_block_lists: a link's source lies in a block that is not adjacent");
+  };
+  for_each_block_link<L>(split, split.rank, kinds, [&](const std::array<int, 3>& x, int i, const PullSource& source) {
+    const auto& c = L::set.c[i];
+    const std::size_t fill_dst = slot(opposite(i), {x[0] - c[0], x[1] - c[1], x[2] - c[2]}), fold_dst = slot(i, x);
+    const int from = split.owner(source.link.cell);
+    if (from == split.rank) return add(out.local, fill_dst, fold_dst, i, source);
+    HaloLinks& h = out.halo[halo_of(from)];
+    h.fill_receive.push_back(fill_dst);
+    h.fold_receive.push_back(fold_dst);
+  });
+  for (std::size_t k = 0; k < out.halo.size(); ++k) {
+    std::size_t position = 0;
+    for_each_block_link<L>(split, out.halo[k].rank, kinds,
+                           [&](const std::array<int, 3>&, int i, const PullSource& source) {
+                             if (split.owner(source.link.cell) != split.rank) return;
+                             add(sends[k], position, position, i, source);
+                             ++position;
+                           });
+    HaloLinks& h = out.halo[k];
+    h.fill_send = std::move(sends[k].fill);
+    h.fold_send = std::move(sends[k].fold);
+    h.fill_send_shifted = std::move(sends[k].fill_shifted);
+    h.fold_send_shifted = std::move(sends[k].fold_shifted);
+  }
+  return out;
+}
+
+/// The copy lists of an unsplit lattice.
+template <Lattice L>
+CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
+  BlockSplit whole;
+  whole.global = {layout.nx, layout.ny, layout.nz};
+  return build_block_lists<L>(layout, kinds, whole).local;
 }
 
 /// The lists for walls of one kind per pair of faces (no open faces).

@@ -108,6 +108,13 @@ struct Obstacle {
   WallRule rule = WallRule::bouzidi;
 };
 
+/// The messages of one step between a block of a split lattice (SolverConfig::split) and the
+/// blocks adjacent to it, one per Solver::halo_ranks() entry and in that order: begin_step()
+/// fills `send`, end_step() reads `receive` (what each of those blocks sent to this one).
+struct HaloMessages {
+  std::vector<std::vector<double>> send, receive;
+};
+
 /// Initial condition: density and velocity of interior cell (x, y, z).
 using InitialField = std::function<CellState(int x, int y, int z)>;
 
@@ -135,6 +142,15 @@ class Solver {
     for (std::int64_t s = 0; s < steps; ++s) step();
   }
   virtual std::int64_t step_count() const = 0;
+
+  // --- a block of a split lattice (lbm/decomposition.hpp). Its step comes in two halves around the
+  // exchange of HaloMessages with the adjacent blocks: begin_step runs the kernel and the copies of
+  // the block's own faces and fills messages.send; end_step writes messages.receive into the block
+  // and finishes the step. step() refuses to run when the block has neighbours.
+  /// The ranks of the adjacent blocks the block exchanges with (ascending; empty when unsplit).
+  virtual std::vector<int> halo_ranks() const = 0;
+  virtual void begin_step(HaloMessages& messages) = 0;
+  virtual void end_step(const HaloMessages& messages) = 0;
 
   /// Sets every cell to the equilibrium of the given density and velocity. The stored
   /// momentum is rho u - F/2 with the force present now, so that velocity() returns u.

@@ -1,0 +1,100 @@
+#include "parallel/communicator.hpp"
+
+#include <mpi.h>
+
+#include <cstdlib>
+#include <stdexcept>
+
+namespace settle::parallel {
+namespace {
+
+class SingleProcess final : public Communicator {
+ public:
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>&,
+                std::vector<std::vector<double>>&) override {
+    if (!ranks.empty()) throw std::logic_error("exchange: a run of one process has no other rank");
+  }
+  [[noreturn]] void abort(int status) override { std::exit(status); }
+};
+
+void check(int code, const char* what) {
+  if (code != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
+}
+
+class MpiWorld final : public Communicator {
+ public:
+  MpiWorld() {
+    int provided = 0;
+    // Only the thread that calls MPI communicates; OpenMP threads work between the calls.
+    check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  }
+  ~MpiWorld() override { MPI_Finalize(); }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+
+  void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                std::vector<std::vector<double>>& receive) override {
+    if (send.size() != ranks.size()) throw std::invalid_argument("exchange: one message per rank");
+    std::vector<MPI_Request> sends(ranks.size());
+    for (std::size_t k = 0; k < ranks.size(); ++k) {
+      check(MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
+                      &sends[k]),
+            "MPI_Isend");
+    }
+    // A message's length is the receiver's count of halo links with that rank; it is probed rather
+    // than passed in, so that the two sides cannot disagree silently (a mismatch fails end_step).
+    receive.resize(ranks.size());
+    for (std::size_t k = 0; k < ranks.size(); ++k) {
+      MPI_Status status;
+      check(MPI_Probe(ranks[k], kTag, MPI_COMM_WORLD, &status), "MPI_Probe");
+      int count = 0;
+      MPI_Get_count(&status, MPI_DOUBLE, &count);
+      receive[k].resize(static_cast<std::size_t>(count));
+      check(MPI_Recv(receive[k].data(), count, MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+            "MPI_Recv");
+    }
+    check(MPI_Waitall(static_cast<int>(sends.size()), sends.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+  }
+
+  [[noreturn]] void abort(int status) override {
+    MPI_Abort(MPI_COMM_WORLD, status);
+    std::exit(status);
+  }
+
+ private:
+  static constexpr int kTag = 17;
+  int rank_ = 0, size_ = 1;
+};
+
+}  // namespace
+
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
+    if (std::getenv(name) != nullptr) return true;
+  }
+  return false;
+}
+
+Communicator& world() {
+  if (launched_by_mpi()) {
+    static MpiWorld mpi;
+    return mpi;
+  }
+  static SingleProcess one;
+  return one;
+}
+
+std::string mpi_library_version() {
+  char text[MPI_MAX_LIBRARY_VERSION_STRING] = {};
+  int length = 0;
+  MPI_Get_library_version(text, &length);
+  std::string version(text, static_cast<std::size_t>(length));
+  const auto end = version.find_first_of(",\n");
+  return "MPI (" + version.substr(0, end) + ")";
+}
+
+}  // namespace settle::parallel

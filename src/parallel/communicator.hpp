@@ -1,0 +1,36 @@
+#pragma once
+// The processes of one run and the messages between them (docs/parallel.md). A process started by
+// mpirun (or srun) joins MPI's world; any other process is a run of one, rank 0 of 1, and never
+// initialises MPI.
+#include <string>
+#include <vector>
+
+namespace settle::parallel {
+
+class Communicator {
+ public:
+  virtual ~Communicator() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// Sends send[k] to ranks[k] and receives receive[k] from ranks[k], for every k, and returns
+  /// when every message has arrived. Each pair of ranks exchanges at most one message per call.
+  virtual void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                        std::vector<std::vector<double>>& receive) = 0;
+  /// Ends every process of the run with `status` (after a failure on this one: the others may be
+  /// waiting for its messages).
+  [[noreturn]] virtual void abort(int status) = 0;
+};
+
+/// True when this process was started by an MPI launcher (the environment variables OpenMPI's
+/// mpirun, Hydra and Slurm's PMI set for their processes).
+bool launched_by_mpi();
+
+/// The communicator of this process: MPI's world when launched_by_mpi() (MPI initialised at the
+/// first call, finalised at exit), otherwise a run of one.
+Communicator& world();
+
+/// "MPI (Open MPI v4.1.4)": the MPI library this build links, for `settle --version` (callable
+/// before MPI starts).
+std::string mpi_library_version();
+
+}  // namespace settle::parallel
