@@ -272,6 +272,12 @@ BlockLists build_block_lists(const GridLayout& layout, const FaceKinds& kinds, c
     h.fill_send_shifted = std::move(sends[k].fill_shifted);
     h.fold_send_shifted = std::move(sends[k].fold_shifted);
   }
+  // A block touching this one only across a wall or an edge no link crosses exchanges nothing; the
+  // relation is symmetric (a link's source block sends exactly what its block receives), so both
+  // sides drop each other.
+  std::erase_if(out.halo, [](const HaloLinks& h) {
+    return h.fill_receive.empty() && h.fill_send.empty() && h.fill_send_shifted.empty();
+  });
   return out;
 }
 

@@ -170,6 +170,30 @@ TEST(Halo, BlockRefusesWhatItCannotDoYet) {
   EXPECT_THROW(make_solver(cfg), settle::InputError);
 }
 
+std::vector<int> halo_ranks_of(const FaceSet& faces, const std::array<int, 3>& blocks, int rank,
+                               LatticeKind lattice = LatticeKind::D3Q19) {
+  SolverConfig cfg = lattice_of(faces, lattice, Precision::float64);
+  BlockSplit s;
+  s.global = {cfg.nx, cfg.ny, cfg.nz};
+  s.blocks = blocks;
+  s.rank = rank;
+  cfg.split = s;
+  const std::array<int, 3> n = s.extent(rank);
+  cfg.nx = n[0], cfg.ny = n[1], cfg.nz = n[2];
+  return make_solver(cfg)->halo_ranks();
+}
+
+TEST(Halo, BlocksExchangeOnlyWithTheBlocksTheyShareLinksWith) {
+  // Three slabs along z: with walls on z the first and last share nothing; periodic on z, they do.
+  EXPECT_EQ(halo_ranks_of(face_sets()[1], {1, 1, 3}, 0), std::vector<int>{1});
+  EXPECT_EQ(halo_ranks_of(face_sets()[1], {1, 1, 3}, 1), (std::vector<int>{0, 2}));
+  EXPECT_EQ(halo_ranks_of(face_sets()[0], {1, 1, 3}, 0), (std::vector<int>{1, 2}));
+  // 2 x 2 x 2 blocks: D3Q19 has no velocity along a body diagonal, so the block across the corner
+  // (rank 7) shares no link with rank 0; D3Q27 has one.
+  EXPECT_EQ(halo_ranks_of(face_sets()[1], {2, 2, 2}, 0), (std::vector<int>{1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(halo_ranks_of(face_sets()[1], {2, 2, 2}, 0, LatticeKind::D3Q27), (std::vector<int>{1, 2, 3, 4, 5, 6, 7}));
+}
+
 TEST(BlockSplit, BlocksTileTheGridAndOwnTheirCells) {
   BlockSplit s;
   s.global = {7, 5, 13};
