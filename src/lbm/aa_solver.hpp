@@ -66,7 +66,8 @@ class AaSolver final : public Solver {
         populations_(layout_.pop_stride * Q),
         forced_flag_(cell_count(), 0),
         inflow_velocity_(config.inflow_velocity) {
-    BlockLists block = build_block_lists<L>(layout_, face_kinds(config), config.split.value_or(whole_lattice()));
+    BlockLists block = build_block_lists<L>(layout_, face_kinds(config),
+                                            config.split.value_or(unsplit({config.nx, config.ny, config.nz})));
     lists_ = std::move(block.local);
     halo_ = std::move(block.halo);
     for (auto& component : force_) component = AlignedArray<Real>(cell_count());
@@ -98,9 +99,9 @@ class AaSolver final : public Solver {
     messages.send.resize(halo_.size());
     for (std::size_t k = 0; k < halo_.size(); ++k) {
       if (odd_parity()) {
-        pack<true>(halo_[k].fold_send, halo_[k].fold_send_shifted, messages.send[k]);
+        pack<true>(halo_[k].send.fold, halo_[k].send.fold_shifted, messages.send[k]);
       } else {
-        pack<false>(halo_[k].fill_send, halo_[k].fill_send_shifted, messages.send[k]);
+        pack<false>(halo_[k].send.fill, halo_[k].send.fill_shifted, messages.send[k]);
       }
     }
   }
@@ -339,12 +340,6 @@ class AaSolver final : public Solver {
 
  private:
   bool odd_parity() const { return (steps_ & 1) != 0; }
-
-  BlockSplit whole_lattice() const {
-    BlockSplit whole;
-    whole.global = {config_.nx, config_.ny, config_.nz};
-    return whole;
-  }
 
   // A step is the kernel and the copies of the block's own faces (begin_local), the exchange with
   // adjacent blocks when split, and the rest (end_local). Walls inside the grid close after the

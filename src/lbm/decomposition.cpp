@@ -78,6 +78,12 @@ void validate(const BlockSplit& split) {
   }
 }
 
+BlockSplit unsplit(const std::array<int, 3>& global) {
+  BlockSplit whole;
+  whole.global = global;
+  return whole;
+}
+
 BlockSplit choose_split(const std::array<int, 3>& global, int ranks, int rank) {
   if (ranks < 1) throw InputError(fmt::format("parallel: the rank count must be >= 1, got {}", ranks));
   BlockSplit best;

@@ -30,6 +30,9 @@ struct BlockSplit {
   std::vector<int> adjacent_ranks() const;
 };
 
+/// The whole lattice as one block (rank 0 of 1).
+BlockSplit unsplit(const std::array<int, 3>& global);
+
 /// The split of `global` cells over `ranks` blocks whose faces cut the fewest cell faces (the
 /// ghost traffic), each block at least one cell thick; among equal cuts the one with more blocks
 /// along z, then y, since a z-plane is contiguous in memory. Throws settle::InputError when no

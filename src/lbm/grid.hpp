@@ -154,15 +154,13 @@ struct CopyLists {
 /// every step: the links of the receiving block whose source population lies in the sending one.
 /// Both sides list them in the receiving block's order (for_each_block_link), so the k-th value of
 /// a message goes to the k-th receive slot:
-///  - fill_send, fold_send (and the shifted ones of outlets): entries evaluated as the copy lists
-///    are at the same point of the step (fill after an even kernel, fold after an odd one), their
-///    `dst` the position in the message;
+///  - send: copy lists evaluated as the block's own are at the same point of the step (fill after
+///    an even kernel, fold after an odd one), each entry's `dst` its position in the message;
 ///  - fill_receive, fold_receive: the slots (absolute element indices) the values go to, those the
 ///    copy lists would write if the sending block's cells were here.
 struct HaloLinks {
   int rank = 0;
-  std::vector<CopyEntry> fill_send, fold_send;
-  std::vector<ShiftedCopyEntry> fill_send_shifted, fold_send_shifted;
+  CopyLists send;
   std::vector<std::size_t> fill_receive, fold_receive;
 };
 
@@ -239,11 +237,7 @@ BlockLists build_block_lists(const GridLayout& layout, const FaceKinds& kinds, c
     lists.fold_shifted.push_back({fold_dst, fold_src, source.wall_term, dir, moment});
   };
 
-  std::vector<CopyLists> sends;
-  for (const int r : split.adjacent_ranks()) {
-    out.halo.emplace_back().rank = r;
-    sends.emplace_back();
-  }
+  for (const int r : split.adjacent_ranks()) out.halo.emplace_back().rank = r;
   const auto halo_of = [&](int r) -> std::size_t {
     for (std::size_t k = 0; k < out.halo.size(); ++k)
       if (out.halo[k].rank == r) return k;
@@ -258,25 +252,19 @@ BlockLists build_block_lists(const GridLayout& layout, const FaceKinds& kinds, c
     h.fill_receive.push_back(fill_dst);
     h.fold_receive.push_back(fold_dst);
   });
-  for (std::size_t k = 0; k < out.halo.size(); ++k) {
+  for (HaloLinks& h : out.halo) {
     std::size_t position = 0;
-    for_each_block_link<L>(split, out.halo[k].rank, kinds,
-                           [&](const std::array<int, 3>&, int i, const PullSource& source) {
-                             if (split.owner(source.link.cell) != split.rank) return;
-                             add(sends[k], position, position, i, source);
-                             ++position;
-                           });
-    HaloLinks& h = out.halo[k];
-    h.fill_send = std::move(sends[k].fill);
-    h.fold_send = std::move(sends[k].fold);
-    h.fill_send_shifted = std::move(sends[k].fill_shifted);
-    h.fold_send_shifted = std::move(sends[k].fold_shifted);
+    for_each_block_link<L>(split, h.rank, kinds, [&](const std::array<int, 3>&, int i, const PullSource& source) {
+      if (split.owner(source.link.cell) != split.rank) return;
+      add(h.send, position, position, i, source);
+      ++position;
+    });
   }
   // A block touching this one only across a wall or an edge no link crosses exchanges nothing; the
   // relation is symmetric (a link's source block sends exactly what its block receives), so both
   // sides drop each other.
   std::erase_if(out.halo, [](const HaloLinks& h) {
-    return h.fill_receive.empty() && h.fill_send.empty() && h.fill_send_shifted.empty();
+    return h.fill_receive.empty() && h.send.fill.empty() && h.send.fill_shifted.empty();
   });
   return out;
 }
@@ -284,9 +272,7 @@ BlockLists build_block_lists(const GridLayout& layout, const FaceKinds& kinds, c
 /// The copy lists of an unsplit lattice.
 template <Lattice L>
 CopyLists build_copy_lists(const GridLayout& layout, const FaceKinds& kinds) {
-  BlockSplit whole;
-  whole.global = {layout.nx, layout.ny, layout.nz};
-  return build_block_lists<L>(layout, kinds, whole).local;
+  return build_block_lists<L>(layout, kinds, unsplit({layout.nx, layout.ny, layout.nz})).local;
 }
 
 /// The lists for walls of one kind per pair of faces (no open faces).
