@@ -107,20 +107,8 @@ class AaSolver final : public Solver {
   }
 
   void end_step(const HaloMessages& messages) override {
-    if (messages.receive.size() != halo_.size()) {
-      throw std::invalid_argument("end_step: " + std::to_string(messages.receive.size()) + " messages for " +
-                                  std::to_string(halo_.size()) + " adjacent blocks");
-    }
-    Real* const data = populations_.data();
-    for (std::size_t k = 0; k < halo_.size(); ++k) {
-      const std::vector<std::size_t>& slots = odd_parity() ? halo_[k].fold_receive : halo_[k].fill_receive;
-      const std::vector<double>& values = messages.receive[k];
-      if (values.size() != slots.size()) {
-        throw std::invalid_argument("end_step: a message of " + std::to_string(values.size()) + " values from rank " +
-                                    std::to_string(halo_[k].rank) + ", expected " + std::to_string(slots.size()));
-      }
-      for (std::size_t j = 0; j < slots.size(); ++j) data[slots[j]] = static_cast<Real>(values[j]);
-    }
+    check_message_count(messages, "end_step");
+    write_received(messages, odd_parity(), "end_step");
     end_local();
   }
 
@@ -147,7 +135,19 @@ class AaSolver final : public Solver {
     }
   }
 
-  ShiftMass shift(int axis, int sign) override;
+  ShiftMass shift(int axis, int sign) override {
+    if (!halo_.empty()) {
+      throw std::logic_error(
+          "shift: a block of a split lattice shifts by begin_shift and end_shift around its exchanges");
+    }
+    HaloMessages none;
+    const ShiftMass mass = begin_shift(axis, sign, none);
+    end_shift(none);
+    return mass;
+  }
+  ShiftMass begin_shift(int axis, int sign, HaloMessages& messages) override;
+  bool end_shift(HaloMessages& messages) override;
+  void end_ghost_refresh(const HaloMessages& messages) override;
 
   double total_mass() const override {
     // Sum over the interior slots: at an even parity these are the post-streaming
@@ -342,16 +342,16 @@ class AaSolver final : public Solver {
   bool odd_parity() const { return (steps_ & 1) != 0; }
 
   // A step is the kernel and the copies of the block's own faces (begin_local), the exchange with
-  // adjacent blocks when split, and the rest (end_local). Walls inside the grid close after the
-  // faces' fold (which brings periodic images and the adjacent blocks' populations home) and before
-  // their fill (which copies the closed values into the ghosts); see close_wall_links.
+  // adjacent blocks when split, and the rest (end_local). Walls inside the grid close last: after
+  // an odd kernel once the fold (own faces and messages) has brought home what crossed a face,
+  // after an even one once the fill has written the ghosts, so that a link may read its second
+  // node from a ghost and write its returning population into one (close_wall_links).
   void begin_local() {
     if (odd_parity()) {
       run_kernel<true>();
       apply<true>(lists_.fold, lists_.fold_shifted);
     } else {
       run_kernel<false>();
-      close_wall_links<false>();
       apply<false>(lists_.fill, lists_.fill_shifted);
     }
   }
@@ -359,8 +359,63 @@ class AaSolver final : public Solver {
     if (odd_parity()) {
       close_wall_links<true>();
       reset_solid_cells();
+    } else {
+      close_wall_links<false>();
     }
     ++steps_;
+  }
+
+  /// Writes what the adjacent blocks sent into the slots of their links: the fold after an odd
+  /// kernel, the fill after an even one.
+  void write_received(const HaloMessages& messages, bool fold, const char* who) {
+    Real* const data = populations_.data();
+    for (std::size_t k = 0; k < halo_.size(); ++k) {
+      const std::vector<std::size_t>& slots = fold ? halo_[k].fold_receive : halo_[k].fill_receive;
+      const std::vector<double>& values = messages.receive[k];
+      if (values.size() != slots.size()) {
+        throw std::invalid_argument(std::string(who) + ": a message of " + std::to_string(values.size()) +
+                                    " values from rank " + std::to_string(halo_[k].rank) + ", expected " +
+                                    std::to_string(slots.size()));
+      }
+      for (std::size_t j = 0; j < slots.size(); ++j) data[slots[j]] = static_cast<Real>(values[j]);
+    }
+  }
+  void check_message_count(const HaloMessages& messages, const char* who) const {
+    if (messages.receive.size() != halo_.size()) {
+      throw std::invalid_argument(std::string(who) + ": " + std::to_string(messages.receive.size()) + " messages for " +
+                                  std::to_string(halo_.size()) + " adjacent blocks");
+    }
+  }
+
+  /// A window shift between begin_shift and the last of its exchanges. At an odd parity the
+  /// ghosts are rebuilt from the moved content, which loses the populations that wall links
+  /// returned into them (close_wall_links writes a link's returning population where its fluid
+  /// cell reads it, a ghost when the solid cell lies across a face): `returns` keeps them, moved
+  /// with their fluid cells, to be written back (slot, value).
+  struct PendingShift {
+    int axis = 0, sign = 1;
+    std::vector<std::pair<std::size_t, double>> returns;
+  };
+  /// The cells of layer k along the shift's axis, in message order.
+  template <class Visit>
+  void for_each_layer_cell(int axis, int k, Visit&& visit) const {
+    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+    const int nu = extent[static_cast<std::size_t>((axis + 1) % 3)],
+              nv = extent[static_cast<std::size_t>((axis + 2) % 3)];
+    for (int v = 0; v < nv; ++v) {
+      for (int u = 0; u < nu; ++u) {
+        std::array<int, 3> c{};
+        c[static_cast<std::size_t>(axis)] = k;
+        c[static_cast<std::size_t>((axis + 1) % 3)] = u;
+        c[static_cast<std::size_t>((axis + 2) % 3)] = v;
+        visit(c);
+      }
+    }
+  }
+  void move_layers(int axis, int sign);
+  void restore_returns() {
+    for (const auto& [at, value] : pending_shift_->returns) populations_[at] = static_cast<Real>(value);
+    pending_shift_.reset();
   }
 
   /// The values of a block's send entries (HaloLinks), each as the copy lists would store it.
@@ -577,26 +632,77 @@ class AaSolver final : public Solver {
 
   bool solid_at(int x, int y, int z) const { return !solid_flag_.empty() && solid_flag_[linear_index(x, y, z)] != 0; }
 
-  /// Interior cell x + d with periodic axes wrapped; false when it leaves a non-periodic axis.
-  bool wrapped(const std::array<int, 3>& x, const std::array<int, 3>& d, std::array<int, 3>& out) const {
+  /// True when the block has an adjacent block beyond its face `side` (0 lower, 1 upper) of axis a,
+  /// through the lattice's periodic wrap too when `through_wrap`.
+  bool has_block_beyond(std::size_t a, int side, bool through_wrap) const {
+    if (!config_.split || config_.split->blocks[a] <= 1) return false;
+    const BlockSplit& split = *config_.split;
+    const int k = split.block_coordinates(split.rank)[a] + (side == 0 ? -1 : 1);
+    if (k >= 0 && k < split.blocks[a]) return true;
+    return through_wrap && config_.boundaries[a] == Boundary::periodic;
+  }
+  /// The rank of the block beyond face `side` of axis a, not through the wrap.
+  std::optional<int> block_beyond(std::size_t a, int side) const {
+    if (!has_block_beyond(a, side, false)) return std::nullopt;
+    std::array<int, 3> b = config_.split->block_coordinates(config_.split->rank);
+    b[a] += side == 0 ? -1 : 1;
+    return config_.split->rank_of(b);
+  }
+  std::size_t halo_index(int rank) const {
+    for (std::size_t k = 0; k < halo_.size(); ++k)
+      if (halo_[k].rank == rank) return k;
+    throw std::logic_error("halo: rank " + std::to_string(rank) + " is not an adjacent block");
+  }
+
+  /// Cell (x, y, z) of an obstacle in this block's coordinates: periodic axes of one block wrap;
+  /// -1 and n on a face shared with an adjacent block name a ghost (that block's cell). Empty when
+  /// it lies beyond a face of the lattice that is not periodic.
+  std::optional<std::array<int, 3>> obstacle_site(std::array<int, 3> c, bool& ghost) const {
     const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+    ghost = false;
     for (std::size_t a = 0; a < 3; ++a) {
-      out[a] = x[a] + d[a];
-      if (out[a] >= 0 && out[a] < extent[a]) continue;
-      if (config_.boundaries[a] != Boundary::periodic) return false;
-      out[a] = (out[a] + extent[a]) % extent[a];
+      if (c[a] >= 0 && c[a] < extent[a]) continue;
+      const int side = c[a] < 0 ? 0 : 1;
+      if ((c[a] == -1 || c[a] == extent[a]) && has_block_beyond(a, side, true)) {
+        ghost = true;
+        continue;
+      }
+      if (config_.boundaries[a] != Boundary::periodic || (config_.split && config_.split->blocks[a] > 1)) {
+        return std::nullopt;
+      }
+      c[a] = ((c[a] % extent[a]) + extent[a]) % extent[a];
     }
-    return true;
+    return c;
+  }
+  enum class Site { outside, fluid, solid };
+  /// What lies at x + d for interior x, |d| <= 1 per axis: a cell of this block, a ghost, or nothing.
+  Site site_of(const std::array<int, 3>& x, const std::array<int, 3>& d) const {
+    bool ghost = false;
+    const auto c = obstacle_site({x[0] + d[0], x[1] + d[1], x[2] + d[2]}, ghost);
+    if (!c) return Site::outside;
+    const bool solid =
+        ghost ? std::binary_search(ghost_solids_.begin(), ghost_solids_.end(), layout_.index((*c)[0], (*c)[1], (*c)[2]))
+              : solid_at((*c)[0], (*c)[1], (*c)[2]);
+    return solid ? Site::solid : Site::fluid;
+  }
+  /// Coordinates of padded index p (inverse of GridLayout::index).
+  std::array<int, 3> padded_coordinates(std::size_t p) const {
+    const std::size_t r = p - layout_.x_begin + 1;
+    return {static_cast<int>(r % layout_.sx) - 1, static_cast<int>(r % layout_.sxy / layout_.sx) - 1,
+            static_cast<int>(r / layout_.sxy) - 1};
   }
 
   /// A wall link in slot terms. The population coming back from the wall,
   ///   f_back = a f*_i(x) + b f*_i(x - c_i) + c f*_opp(i)(x) + wall,
   /// goes where the next kernel reads f_opp(i)(x) (docs/lbm.md, "Walls inside the grid").
   struct PreparedLink {
-    std::size_t fluid = 0;   ///< padded index of the fluid cell x
-    std::size_t solid = 0;   ///< padded index of x + c_i, periodic axes wrapped
-    std::size_t second = 0;  ///< padded index of x - c_i, wrapped (read only when b != 0)
-    std::size_t behind = 0;  ///< padded index of x - c_i unwrapped: where the odd kernel puts f*_opp(i)(x)
+    // Padded indices, unwrapped: x +- c_i may be a ghost (a periodic image or a cell of an adjacent
+    // block). The kernels of x read and write there, and the ghosts hold what crossed the face when
+    // the links close (begin_local), so no index needs the cell's home.
+    std::size_t fluid = 0;   ///< the fluid cell x
+    std::size_t solid = 0;   ///< x + c_i
+    std::size_t second = 0;  ///< x - c_i when it is fluid (read only when b != 0), else x
+    std::size_t behind = 0;  ///< x - c_i: where the odd kernel puts f*_opp(i)(x)
     int dir = 0;
     double a = 1.0, b = 0.0, c = 0.0, wall = 0.0;
     Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
@@ -605,8 +711,11 @@ class AaSolver final : public Solver {
   PreparedLink prepare_link(const WallLink& link, WallRule rule) const;
   /// The solid cells move with the content in a window shift (those leaving the grid are
   /// dropped); the links are dropped, to be set again at the obstacle's new place.
-  void shift_solid_cells(int axis, int sign) {
-    if (solid_cells_.empty()) return;
+  void shift_solid_cells(int axis, int sign, std::vector<std::size_t> entering) {
+    if (solid_cells_.empty() && entering.empty()) {
+      ghost_solids_.clear(), links_.clear(), wall_momentum_.clear();
+      return;
+    }
     const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
     std::vector<std::size_t> moved;
     for (const std::size_t n : solid_cells_) {
@@ -620,6 +729,7 @@ class AaSolver final : public Solver {
         continue;
       moved.push_back(linear_index(c[0], c[1], c[2]));
     }
+    moved.insert(moved.end(), entering.begin(), entering.end());
     std::sort(moved.begin(), moved.end());
     set_solid_cells(std::move(moved));
   }
@@ -700,6 +810,10 @@ class AaSolver final : public Solver {
   std::vector<std::size_t> solid_cells_;
   std::vector<PreparedLink> links_;
   std::vector<Eigen::Vector3d> wall_momentum_;
+  /// Solid cells of adjacent blocks in the ghost layer (padded indices, ascending): where this
+  /// block's links end across a block face.
+  std::vector<std::size_t> ghost_solids_;
+  std::optional<PendingShift> pending_shift_;
   RelaxationRates rates_;
   std::int64_t steps_ = 0;
   /// Below ~16 k cells a step costs less than waking the OpenMP team (and far less than a
@@ -753,6 +867,7 @@ void AaSolver<L, Collision, Real>::set_solid_cells(std::vector<std::size_t> cell
   for (const std::size_t n : solid_cells_) solid_flag_[n] = 0;
   links_.clear();
   wall_momentum_.clear();
+  ghost_solids_.clear();
   solid_cells_ = std::move(cells);
   if (solid_cells_.empty()) return;
   if (solid_flag_.empty()) solid_flag_.assign(cell_count(), 0);
@@ -761,34 +876,39 @@ void AaSolver<L, Collision, Real>::set_solid_cells(std::vector<std::size_t> cell
 
 template <Lattice L, class Collision, class Real>
 void AaSolver<L, Collision, Real>::set_obstacle(const Obstacle& obstacle) {
-  // An obstacle's links may cross a block face, which the halo does not carry yet.
-  if (!halo_.empty() && !(obstacle.solid_cells.empty() && obstacle.links.empty())) {
-    throw std::logic_error("set_obstacle: obstacles in a split lattice are not supported yet");
-  }
-  std::vector<std::size_t> cells;
+  std::vector<std::size_t> cells, ghosts;
   cells.reserve(obstacle.solid_cells.size());
-  for (const auto& cell : obstacle.solid_cells) {
-    const auto c = resolve(cell[0], cell[1], cell[2]);
-    cells.push_back(linear_index(c[0], c[1], c[2]));
-  }
-  std::sort(cells.begin(), cells.end());
-  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   // A free-slip or outflow face copies populations from cells of its own layer, which would
-  // carry a solid cell's scratch into the fluid; walls and inlets copy only within a cell.
+  // carry a solid cell's scratch into the fluid; walls and inlets copy only within a cell. The
+  // block that holds a cell checks it.
   const FaceKinds kinds = face_kinds(config_);
   const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
   for (const auto& cell : obstacle.solid_cells) {
-    const auto c = resolve(cell[0], cell[1], cell[2]);
+    bool ghost = false;
+    const auto c = obstacle_site(cell, ghost);
+    if (!c) throw std::invalid_argument("set_obstacle: a solid cell lies outside the lattice");
+    const std::size_t padded = layout_.index((*c)[0], (*c)[1], (*c)[2]);
+    if (ghost) {
+      ghosts.push_back(padded);
+      continue;
+    }
+    cells.push_back(linear_index((*c)[0], (*c)[1], (*c)[2]));
     for (std::size_t a = 0; a < 3; ++a) {
       for (const int side : {0, 1}) {
         const Boundary kind = kinds[a][static_cast<std::size_t>(side)];
-        if ((kind == Boundary::free_slip || kind == Boundary::outflow) && c[a] == (side == 0 ? 0 : extent[a] - 1)) {
+        const bool on_face = (*c)[a] == (side == 0 ? 0 : extent[a] - 1) && !has_block_beyond(a, side, true);
+        if ((kind == Boundary::free_slip || kind == Boundary::outflow) && on_face) {
           throw std::invalid_argument("set_obstacle: a solid cell lies on a free-slip or outflow face");
         }
       }
     }
   }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
   set_solid_cells(std::move(cells));
+  ghost_solids_ = std::move(ghosts);
   std::vector<PreparedLink> prepared;
   prepared.reserve(obstacle.links.size());
   for (const WallLink& link : obstacle.links) prepared.push_back(prepare_link(link, obstacle.rule));
@@ -803,17 +923,15 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
   if (!(link.q > 0.0 && link.q <= 1.0)) throw std::invalid_argument("set_obstacle: link fraction q outside (0, 1]");
   const auto x = resolve(link.cell[0], link.cell[1], link.cell[2]);
   const auto& c = L::set.c[link.dir];
-  std::array<int, 3> wall_cell{}, second_cell{};
-  if (solid_at(x[0], x[1], x[2]) || !wrapped(x, c, wall_cell) || !solid_at(wall_cell[0], wall_cell[1], wall_cell[2])) {
+  if (solid_at(x[0], x[1], x[2]) || site_of(x, c) != Site::solid) {
     throw std::invalid_argument("set_obstacle: a link must lead from a fluid cell to a solid one");
   }
-  const bool has_second =
-      wrapped(x, {-c[0], -c[1], -c[2]}, second_cell) && !solid_at(second_cell[0], second_cell[1], second_cell[2]);
+  const bool has_second = site_of(x, {-c[0], -c[1], -c[2]}) == Site::fluid;
   PreparedLink p;
   p.fluid = layout_.index(x[0], x[1], x[2]);
-  p.solid = layout_.index(wall_cell[0], wall_cell[1], wall_cell[2]);
-  p.second = has_second ? layout_.index(second_cell[0], second_cell[1], second_cell[2]) : p.fluid;
+  p.solid = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p.fluid) + layout_.offset(c));
   p.behind = upstream_of(p.fluid, link.dir);
+  p.second = has_second ? p.behind : p.fluid;
   p.dir = link.dir;
   p.wall_velocity = link.wall_velocity;
   // Ladd's moving-wall term -2 w_i rho_0 c_i.u_w / cs^2 at rho_0 = 1, scaled like f*_i(x).
@@ -833,38 +951,68 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
 }
 
 template <Lattice L, class Collision, class Real>
-ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {
+ShiftMass AaSolver<L, Collision, Real>::begin_shift(int axis, int sign, HaloMessages& messages) {
   if (axis < 0 || axis > 2) throw std::invalid_argument("shift: axis must be 0, 1 or 2");
   if (sign != 1 && sign != -1) throw std::invalid_argument("shift: sign must be +1 or -1");
-  // The layer that leaves one block enters the next: not carried by the halo yet.
-  if (!halo_.empty()) throw std::logic_error("shift: the moving window of a split lattice is not supported yet");
+  if (pending_shift_) throw std::logic_error("begin_shift: the last shift has not ended");
+  const auto a = static_cast<std::size_t>(axis);
   const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-  const int n_axis = extent[axis];
-  // The window moves by `sign`: new cell k holds old cell k + sign. The layer at k = 0
-  // (sign -1: k = n - 1) of the old content leaves; the opposite layer enters at rest.
-  const int leaving = sign > 0 ? 0 : n_axis - 1;
-  const auto cell_of = [&](int k, int u, int v) {
-    std::array<int, 3> c{};
-    c[axis] = k;
-    c[(axis + 1) % 3] = u;
-    c[(axis + 2) % 3] = v;
-    return layout_.index(c[0], c[1], c[2]);
-  };
-  const int nu = extent[(axis + 1) % 3], nv = extent[(axis + 2) % 3];
-  double leaving_sum = 0.0;
-  for (int v = 0; v < nv; ++v) {
-    for (int u = 0; u < nu; ++u) {
-      const std::size_t cell = cell_of(leaving, u, v);
-      for (int q = 0; q < Q; ++q) leaving_sum += static_cast<double>(populations_[slot(q, cell)]);
+  // The window moves by `sign`: new cell k holds old cell k + sign. The layer at k = 0 (sign -1:
+  // k = n - 1) of the old content leaves the block, into the adjacent block on that side or out
+  // of the lattice (also across a periodic wrap: the window is not periodic); the opposite layer
+  // enters from the adjacent block there, or at rest from outside.
+  const int leaving = sign > 0 ? 0 : extent[a] - 1;
+  const std::optional<int> onward = block_beyond(a, sign > 0 ? 0 : 1);
+  messages.send.assign(halo_.size(), {});
+  std::vector<double>* out = onward ? &messages.send[halo_index(*onward)] : nullptr;
+  double leaving_sum = 0.0, layer_cells = 0.0;
+  for_each_layer_cell(axis, leaving, [&](const std::array<int, 3>& c) {
+    const std::size_t cell = layout_.index(c[0], c[1], c[2]);
+    layer_cells += 1.0;
+    for (int q = 0; q < Q; ++q) {
+      const double g = static_cast<double>(populations_[slot(q, cell)]);
+      if (out) out->push_back(g);
+      leaving_sum += g;
+    }
+    if (out) out->push_back(solid_at(c[0], c[1], c[2]) ? 1.0 : 0.0);
+  });
+  ShiftMass mass;
+  if (!onward) mass.left = layer_cells + leaving_sum;
+  if (!block_beyond(a, sign > 0 ? 1 : 0)) mass.entered = layer_cells;
+
+  PendingShift pending{axis, sign, {}};
+  if (odd_parity()) {
+    // The links' returned populations, with their fluid cells' new places; those whose fluid cell
+    // moves into the onward block travel with the layer (its coordinates: x, y, z, direction, value).
+    const int onward_extent = onward ? config_.split->extent(*onward)[a] : 0;
+    for (const PreparedLink& l : links_) {
+      std::array<int, 3> fluid = padded_coordinates(l.fluid), target = padded_coordinates(l.solid);
+      fluid[a] -= sign, target[a] -= sign;
+      const double value = static_cast<double>(populations_[slot(l.dir, l.solid)]);
+      if (fluid[a] >= 0 && fluid[a] < extent[a]) {
+        pending.returns.emplace_back(slot(l.dir, layout_.index(target[0], target[1], target[2])), value);
+      } else if (out) {
+        target[a] += sign > 0 ? onward_extent : -extent[a];
+        out->insert(out->end(), {static_cast<double>(target[0]), static_cast<double>(target[1]),
+                                 static_cast<double>(target[2]), static_cast<double>(l.dir), value});
+      }
     }
   }
-  const double layer_cells = static_cast<double>(nu) * static_cast<double>(nv);
+  move_layers(axis, sign);
+  pending_shift_ = std::move(pending);
+  return mass;
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::move_layers(int axis, int sign) {
+  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+  const int n_axis = extent[static_cast<std::size_t>(axis)];
   // Layers along an axis are contiguous blocks of the padded grid (a cell along x, a row of sx
   // elements along y, a plane of sxy along z), so the shift is a memmove of whole blocks per
   // population array: sequential traffic instead of strided walks. Ghost cells inside the
-  // moved blocks move too; they are stale at an even parity and rebuilt below at an odd one.
+  // moved blocks move too; they are stale at an even parity and rebuilt at an odd one (end_shift).
   const std::array<std::size_t, 3> block{1, layout_.sx, layout_.sxy};
-  const std::size_t layer = block[axis];
+  const std::size_t layer = block[static_cast<std::size_t>(axis)];
   // Blocks that hold the layers: one per (y, z) row for x, one per plane for y, one for z.
   std::vector<std::size_t> starts;
   if (axis == 0) {
@@ -893,10 +1041,61 @@ ShiftMass AaSolver<L, Collision, Real>::shift(int axis, int sign) {
       }
     }
   }
-  // At an odd parity the ghost slots hold copies of the old interior: rebuild them.
-  if (odd_parity()) apply<false>(lists_.fill, lists_.fill_shifted);
-  shift_solid_cells(axis, sign);
-  return {layer_cells + leaving_sum, layer_cells};
+}
+
+template <Lattice L, class Collision, class Real>
+bool AaSolver<L, Collision, Real>::end_shift(HaloMessages& messages) {
+  if (!pending_shift_) throw std::logic_error("end_shift: no shift has begun");
+  check_message_count(messages, "end_shift");
+  const int axis = pending_shift_->axis, sign = pending_shift_->sign;
+  const auto a = static_cast<std::size_t>(axis);
+  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+  std::vector<std::size_t> entering_solids;
+  if (const std::optional<int> from = block_beyond(a, sign > 0 ? 1 : 0)) {
+    const std::vector<double>& in = messages.receive[halo_index(*from)];
+    const std::size_t layer_values = static_cast<std::size_t>(Q + 1) * static_cast<std::size_t>(extent[(a + 1) % 3]) *
+                                     static_cast<std::size_t>(extent[(a + 2) % 3]);
+    if (in.size() < layer_values || (in.size() - layer_values) % 5 != 0) {
+      throw std::invalid_argument("end_shift: a layer of " + std::to_string(in.size()) + " values from rank " +
+                                  std::to_string(*from) + ", expected " + std::to_string(layer_values) +
+                                  " and five per returned population");
+    }
+    std::size_t k = 0;
+    for_each_layer_cell(axis, sign > 0 ? extent[a] - 1 : 0, [&](const std::array<int, 3>& c) {
+      const std::size_t cell = layout_.index(c[0], c[1], c[2]);
+      for (int q = 0; q < Q; ++q) populations_[slot(q, cell)] = static_cast<Real>(in[k++]);
+      if (in[k++] != 0.0) entering_solids.push_back(linear_index(c[0], c[1], c[2]));
+    });
+    for (; k < in.size(); k += 5) {
+      const std::size_t at =
+          layout_.index(static_cast<int>(in[k]), static_cast<int>(in[k + 1]), static_cast<int>(in[k + 2]));
+      pending_shift_->returns.emplace_back(slot(static_cast<int>(in[k + 3]), at), in[k + 4]);
+    }
+  }
+  shift_solid_cells(axis, sign, std::move(entering_solids));
+  if (!odd_parity()) {
+    pending_shift_.reset();
+    return false;
+  }
+  // At an odd parity the ghost slots hold copies of the old content: rebuild them, with the
+  // adjacent blocks' new faces where split.
+  apply<false>(lists_.fill, lists_.fill_shifted);
+  if (halo_.empty()) {
+    restore_returns();
+    return false;
+  }
+  messages.send.resize(halo_.size());
+  for (std::size_t k = 0; k < halo_.size(); ++k)
+    pack<false>(halo_[k].send.fill, halo_[k].send.fill_shifted, messages.send[k]);
+  return true;
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::end_ghost_refresh(const HaloMessages& messages) {
+  if (!pending_shift_) throw std::logic_error("end_ghost_refresh: no shift is waiting for its ghosts");
+  check_message_count(messages, "end_ghost_refresh");
+  write_received(messages, false, "end_ghost_refresh");
+  restore_returns();
 }
 
 }  // namespace settle::lbm

@@ -101,7 +101,10 @@ struct WallLink {
 enum class WallRule { halfway, bouzidi };
 
 /// Solid cells inside the grid and the links of fluid cells into them. The solid cells are not
-/// fluid: their content is reset to rest after every odd step and never reaches the fluid.
+/// fluid: their content is reset to rest after every odd step and never reaches the fluid. On a
+/// block of a split lattice the cells are the block's (its coordinates), and the solid cells of
+/// the adjacent blocks in its ghost layer (-1 or n along an axis with a block beyond) where its
+/// links end; the links are those of its own fluid cells.
 struct Obstacle {
   std::vector<std::array<int, 3>> solid_cells;
   std::vector<WallLink> links;
@@ -161,7 +164,18 @@ class Solver {
   /// (+1 or -1), so the fluid content moves by -sign cells relative to the grid. The layer
   /// that leaves is dropped, the entering layer is fluid at rest at density 1 (the rest
   /// equilibrium is symmetric, so it is valid at either AA parity). Forces are not shifted.
+  /// Solid cells move with the content (those that leave are dropped); the obstacle's links are
+  /// dropped, to be set again at its new place. Refuses a block with neighbours (std::logic_error).
   virtual ShiftMass shift(int axis, int sign) = 0;
+  /// The same on a block of a split lattice, around its exchanges: begin_shift moves the block's
+  /// content and fills messages.send (the leaving layer, for the adjacent block it enters); after
+  /// the exchange end_shift writes the entering layer. At an odd parity the ghosts must then be
+  /// rebuilt from the adjacent blocks' new faces: end_shift returns true and has filled
+  /// messages.send again; after that exchange end_ghost_refresh finishes the shift. The mass is
+  /// this block's share: the layer that left the lattice here, the rest fluid that entered here.
+  virtual ShiftMass begin_shift(int axis, int sign, HaloMessages& messages) = 0;
+  virtual bool end_shift(HaloMessages& messages) = 0;
+  virtual void end_ghost_refresh(const HaloMessages& messages) = 0;
 
   /// Total mass sum(rho) over the interior cells (exact to round-off at either parity).
   virtual double total_mass() const = 0;
@@ -219,7 +233,8 @@ class Solver {
 
   // --- an obstacle inside the grid (a body coupled by momentum exchange)
   /// Replaces the obstacle. Every link must start at a fluid cell and end, one step along
-  /// c_dir, at a solid cell (periodic axes wrap); throws std::invalid_argument otherwise.
+  /// c_dir, at a solid cell (periodic axes wrap; a ghost of an adjacent block counts); throws
+  /// std::invalid_argument otherwise.
   /// Cells that were solid and are not any more keep what they hold: refill them first
   /// (set_cell_populations).
   virtual void set_obstacle(const Obstacle& obstacle) = 0;
