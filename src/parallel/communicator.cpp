@@ -16,6 +16,7 @@ class SingleProcess final : public Communicator {
                 std::vector<std::vector<double>>&) override {
     if (!ranks.empty()) throw std::logic_error("exchange: a run of one process has no other rank");
   }
+  std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) override { return {mine}; }
   [[noreturn]] void abort(int status) override { std::exit(status); }
 };
 
@@ -60,6 +61,23 @@ class MpiWorld final : public Communicator {
     check(MPI_Waitall(static_cast<int>(sends.size()), sends.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   }
 
+  std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) override {
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(size_)), starts(static_cast<std::size_t>(size_));
+    check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+    int total = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) starts[r] = total, total += counts[r];
+    std::vector<double> all(static_cast<std::size_t>(total));
+    check(MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), starts.data(), MPI_DOUBLE,
+                         MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    std::vector<std::vector<double>> by_rank(counts.size());
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      by_rank[r].assign(all.begin() + starts[r], all.begin() + starts[r] + counts[r]);
+    }
+    return by_rank;
+  }
+
   [[noreturn]] void abort(int status) override {
     MPI_Abort(MPI_COMM_WORLD, status);
     std::exit(status);
@@ -71,6 +89,16 @@ class MpiWorld final : public Communicator {
 };
 
 }  // namespace
+
+std::vector<double> sum_in_rank_order(Communicator& communicator, const std::vector<double>& mine) {
+  const std::vector<std::vector<double>> all = communicator.gather_all(mine);
+  std::vector<double> sum(mine.size(), 0.0);
+  for (const std::vector<double>& part : all) {
+    if (part.size() != mine.size()) throw std::logic_error("sum_in_rank_order: ranks sum vectors of different lengths");
+    for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += part[k];
+  }
+  return sum;
+}
 
 bool launched_by_mpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {

@@ -16,10 +16,17 @@ class Communicator {
   /// when every message has arrived. Each pair of ranks exchanges at most one message per call.
   virtual void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
                         std::vector<std::vector<double>>& receive) = 0;
+  /// Every rank's `mine`, in rank order, on every rank (the lengths may differ between ranks).
+  virtual std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) = 0;
   /// Ends every process of the run with `status` (after a failure on this one: the others may be
   /// waiting for its messages).
   [[noreturn]] virtual void abort(int status) = 0;
 };
+
+/// The element-wise sum of every rank's `mine` (all of one length), added in rank order on every
+/// rank: the same bits on every rank and in every run with this many ranks (an MPI_Allreduce may
+/// add in any order).
+std::vector<double> sum_in_rank_order(Communicator& communicator, const std::vector<double>& mine);
 
 /// True when this process was started by an MPI launcher (the environment variables OpenMPI's
 /// mpirun, Hydra and Slurm's PMI set for their processes).

@@ -1,0 +1,27 @@
+#include "parallel/lattice_steps.hpp"
+
+#include <vector>
+
+namespace settle::parallel {
+
+void step(lbm::Solver& block, Communicator& communicator) {
+  lbm::HaloMessages messages;
+  block.begin_step(messages);
+  communicator.exchange(block.halo_ranks(), messages.send, messages.receive);
+  block.end_step(messages);
+}
+
+lbm::ShiftMass shift(lbm::Solver& block, int axis, int sign, Communicator& communicator) {
+  lbm::HaloMessages messages;
+  const std::vector<int> neighbours = block.halo_ranks();
+  const lbm::ShiftMass mine = block.begin_shift(axis, sign, messages);
+  communicator.exchange(neighbours, messages.send, messages.receive);
+  if (block.end_shift(messages)) {
+    communicator.exchange(neighbours, messages.send, messages.receive);
+    block.end_ghost_refresh(messages);
+  }
+  const std::vector<double> total = sum_in_rank_order(communicator, {mine.left, mine.entered});
+  return {total[0], total[1]};
+}
+
+}  // namespace settle::parallel
