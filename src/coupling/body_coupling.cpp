@@ -26,9 +26,9 @@ CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, d
 }
 
 std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> shape, double dx_si,
-                                            const CouplingOptions& options) {
+                                            const CouplingOptions& options, parallel::Communicator& communicator) {
   if (options.kind == CouplingKind::momentum_exchange)
-    return std::make_unique<MomentumExchangeCoupling>(std::move(shape), dx_si, options);
+    return std::make_unique<MomentumExchangeCoupling>(std::move(shape), dx_si, options, communicator);
   return std::make_unique<ImmersedBoundaryCoupling>(std::move(shape), dx_si, options);
 }
 

@@ -19,6 +19,7 @@
 #include "coupling/immersed_body.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/solver.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::coupling {
 
@@ -100,7 +101,10 @@ struct CouplingOptions {
 CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, double dx_si,
                      const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial);
 
+/// The coupling `options` choose. `communicator` holds the ranks of a split lattice (the momentum
+/// exchange adds the blocks' parts through it; docs/parallel.md).
 std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> shape, double dx_si,
-                                            const CouplingOptions& options);
+                                            const CouplingOptions& options,
+                                            parallel::Communicator& communicator = parallel::single_process());
 
 }  // namespace settle::coupling

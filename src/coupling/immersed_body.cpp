@@ -11,7 +11,9 @@ bool periodic(const lbm::Solver& solver, int axis) {
   return solver.config().boundaries[static_cast<std::size_t>(axis)] == lbm::Boundary::periodic;
 }
 
+// The whole lattice's extent (a block of a split lattice answers for the whole).
 int grid_extent(const lbm::Solver& solver, int axis) {
+  if (solver.config().split) return solver.config().split->global[static_cast<std::size_t>(axis)];
   return axis == 0 ? solver.nx() : axis == 1 ? solver.ny() : solver.nz();
 }
 

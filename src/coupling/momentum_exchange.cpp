@@ -3,24 +3,84 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <unordered_map>
 #include <unordered_set>
+#include <vector>
+
 #include <utility>
+#include "lbm/decomposition.hpp"
 
 namespace settle::coupling {
 namespace {
 
-/// Interior cell index with periodic axes wrapped, or nullopt outside a non-periodic axis.
-std::optional<std::size_t> wrapped_index(const lbm::Solver& fluid, const std::array<int, 3>& c) {
-  const std::array<int, 3> n{fluid.nx(), fluid.ny(), fluid.nz()};
-  std::array<int, 3> w{};
-  for (std::size_t a = 0; a < 3; ++a) {
-    w[a] = c[a];
-    if (w[a] >= 0 && w[a] < n[a]) continue;
-    if (fluid.config().boundaries[a] != lbm::Boundary::periodic) return std::nullopt;
-    w[a] = ((w[a] % n[a]) + n[a]) % n[a];
+// The whole lattice as the body sees it from one block: its extents and periodic axes, and where
+// its cells live (this block, an adjacent one's ghost here, or another block).
+class LatticeView {
+ public:
+  explicit LatticeView(const lbm::Solver& fluid)
+      : split_(fluid.config().split.value_or(lbm::unsplit({fluid.nx(), fluid.ny(), fluid.nz()}))) {
+    for (std::size_t a = 0; a < 3; ++a) periodic_[a] = fluid.config().boundaries[a] == lbm::Boundary::periodic;
   }
-  return fluid.linear_index(w[0], w[1], w[2]);
-}
+  bool split() const { return split_.block_count() > 1; }
+  int rank() const { return split_.rank; }
+  /// The cell with periodic axes wrapped; empty beyond a face that is not periodic.
+  std::optional<std::array<int, 3>> wrap(std::array<int, 3> c) const {
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int n = split_.global[a];
+      if (c[a] >= 0 && c[a] < n) continue;
+      if (!periodic_[a]) return std::nullopt;
+      c[a] = ((c[a] % n) + n) % n;
+    }
+    return c;
+  }
+  std::size_t index(const std::array<int, 3>& c) const {
+    const auto g = split_.global;
+    return static_cast<std::size_t>(c[0]) +
+           static_cast<std::size_t>(g[0]) * (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(g[1]) * c[2]);
+  }
+  int owner(const std::array<int, 3>& wrapped) const { return split_.owner(wrapped); }
+  std::array<int, 3> to_block(const std::array<int, 3>& wrapped) const {
+    const auto o = split_.offset(split_.rank);
+    return {wrapped[0] - o[0], wrapped[1] - o[1], wrapped[2] - o[2]};
+  }
+  std::array<int, 3> to_lattice(const std::array<int, 3>& local) const {
+    const auto o = split_.offset(split_.rank);
+    return {local[0] + o[0], local[1] + o[1], local[2] + o[2]};
+  }
+  /// Block `rank`'s coordinates of a wrapped cell in its padded range: its own cells, and the
+  /// ghosts beyond its faces shared with another block (also across a periodic wrap).
+  std::optional<std::array<int, 3>> in_padded_block(const std::array<int, 3>& wrapped, int rank) const {
+    const auto o = split_.offset(rank), n = split_.extent(rank);
+    const auto b = split_.block_coordinates(rank);
+    std::array<int, 3> local{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int g = split_.global[a];
+      bool found = false;
+      for (const int image : {0, -g, g}) {
+        const int l = wrapped[a] + image - o[a];
+        if (l >= 0 && l < n[a]) {
+          found = image == 0;
+        } else if ((l == -1 || l == n[a]) && split_.blocks[a] > 1) {
+          const int k = b[a] + (l < 0 ? -1 : 1);
+          found = (image == 0 && k >= 0 && k < split_.blocks[a]) || (image != 0 && periodic_[a]);
+        }
+        if (found) {
+          local[a] = l;
+          break;
+        }
+      }
+      if (!found) return std::nullopt;
+    }
+    return local;
+  }
+
+ private:
+  lbm::BlockSplit split_;
+  std::array<bool, 3> periodic_{};
+};
+
+// What a refill needs of a neighbour cell: solid (1) or not, density, non-equilibrium part.
+constexpr std::size_t kNeighbourHeader = 2;
 
 }  // namespace
 
@@ -76,8 +136,8 @@ BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box,
 }
 
 MomentumExchangeCoupling::MomentumExchangeCoupling(std::shared_ptr<const body::Shape> shape, double dx_si,
-                                                   const CouplingOptions& options)
-    : shape_(std::move(shape)), dx_si_(dx_si), options_(options) {}
+                                                   const CouplingOptions& options, parallel::Communicator& communicator)
+    : shape_(std::move(shape)), dx_si_(dx_si), options_(options), communicator_(communicator) {}
 
 CellBox momentum_exchange_box(const body::Shape& shape, double dx_si, const Eigen::Vector3d& centre,
                               const Eigen::Matrix3d& body_to_inertial) {
@@ -106,40 +166,145 @@ void MomentumExchangeCoupling::start(lbm::Solver& fluid, const LatticePose& pose
 
 void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose& pose) {
   pose_ = pose;
-  walls_ = body_walls(*shape_, dx_si_, box_at(pose.centre, pose.body_to_inertial), pose,
-                      lbm::velocity_set(fluid.config().lattice), options_.wall_rule);
+  BodyWalls whole = body_walls(*shape_, dx_si_, box_at(pose.centre, pose.body_to_inertial), pose,
+                               lbm::velocity_set(fluid.config().lattice), options_.wall_rule);
+  const LatticeView view(fluid);
+  whole_link_count_ = whole.obstacle.links.size();
+  whole_solids_.clear();
+  for (const auto& c : whole.obstacle.solid_cells)
+    if (const auto w = view.wrap(c)) whole_solids_.push_back(view.index(*w));
+  std::sort(whole_solids_.begin(), whole_solids_.end());
+  link_index_.clear();
+  whole_crossing_.clear();
+  if (!view.split()) {
+    walls_ = std::move(whole);
+    return;
+  }
+  whole_crossing_ = whole.crossing;
+  walls_ = BodyWalls{};
+  walls_.obstacle.rule = whole.obstacle.rule;
+  for (const auto& c : whole.obstacle.solid_cells) {
+    const auto w = view.wrap(c);
+    if (!w) continue;
+    if (const auto local = view.in_padded_block(*w, view.rank())) walls_.obstacle.solid_cells.push_back(*local);
+  }
+  for (std::size_t k = 0; k < whole.obstacle.links.size(); ++k) {
+    const auto w = view.wrap(whole.obstacle.links[k].cell);
+    if (!w || view.owner(*w) != view.rank()) continue;
+    lbm::WallLink link = whole.obstacle.links[k];
+    link.cell = view.to_block(*w);
+    walls_.obstacle.links.push_back(link);
+    walls_.crossing.push_back(whole.crossing[k]);
+    link_index_.push_back(k);
+  }
+}
+
+std::unordered_map<std::size_t, MomentumExchangeCoupling::NeighbourCell> MomentumExchangeCoupling::neighbour_cells(
+    const lbm::Solver& fluid) const {
+  std::unordered_map<std::size_t, NeighbourCell> cells;
+  const LatticeView view(fluid);
+  if (!view.split()) return cells;
+  // The box of the body and two layers more: every cell next to a cell the body uncovers.
+  CellBox box = box_at(pose_.centre, pose_.body_to_inertial);
+  for (std::size_t a = 0; a < 3; ++a) box.origin[a] -= 2, box.extent[a] += 4;
+  // The box's cells once each, wrapped, in one order on every rank.
+  std::vector<std::array<int, 3>> box_cells;
+  std::unordered_set<std::size_t> seen;
+  for (int k = 0; k < box.extent[2]; ++k)
+    for (int j = 0; j < box.extent[1]; ++j)
+      for (int i = 0; i < box.extent[0]; ++i) {
+        const auto w = view.wrap({box.origin[0] + i, box.origin[1] + j, box.origin[2] + k});
+        if (w && seen.insert(view.index(*w)).second) box_cells.push_back(*w);
+      }
+  const std::vector<int> neighbours = fluid.halo_ranks();
+  const std::size_t q = static_cast<std::size_t>(fluid.velocity_count());
+  std::vector<std::vector<double>> send(neighbours.size()), receive;
+  std::vector<double> f_neq(q);
+  for (std::size_t n = 0; n < neighbours.size(); ++n) {
+    for (const auto& c : box_cells) {
+      if (view.owner(c) != view.rank() || !view.in_padded_block(c, neighbours[n])) continue;
+      const auto l = view.to_block(c);
+      const bool solid = fluid.is_solid(l[0], l[1], l[2]);
+      std::fill(f_neq.begin(), f_neq.end(), 0.0);
+      const double density = solid ? 1.0 : fluid.non_equilibrium(l[0], l[1], l[2], f_neq);
+      send[n].push_back(solid ? 1.0 : 0.0);
+      send[n].push_back(density);
+      send[n].insert(send[n].end(), f_neq.begin(), f_neq.end());
+    }
+  }
+  communicator_.exchange(neighbours, send, receive);
+  for (std::size_t n = 0; n < neighbours.size(); ++n) {
+    std::size_t at = 0;
+    for (const auto& c : box_cells) {
+      if (view.owner(c) != neighbours[n] || !view.in_padded_block(c, view.rank())) continue;
+      if (at + kNeighbourHeader + q > receive[n].size()) {
+        throw std::logic_error("momentum exchange: a block sent fewer neighbour cells than its box holds");
+      }
+      NeighbourCell cell;
+      cell.solid = receive[n][at] != 0.0;
+      cell.density = receive[n][at + 1];
+      cell.non_equilibrium.assign(receive[n].begin() + static_cast<std::ptrdiff_t>(at + kNeighbourHeader),
+                                  receive[n].begin() + static_cast<std::ptrdiff_t>(at + kNeighbourHeader + q));
+      at += kNeighbourHeader + q;
+      cells.emplace(view.index(c), std::move(cell));
+    }
+  }
+  return cells;
 }
 
 void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
-  std::unordered_set<std::size_t> now_solid;
-  for (const auto& c : walls_.obstacle.solid_cells)
-    if (const auto n = wrapped_index(fluid, c)) now_solid.insert(*n);
-  const auto fluid_before_and_after = [&](const std::array<int, 3>& c) {
-    const auto n = wrapped_index(fluid, c);
-    return n && !now_solid.count(*n) && !fluid.is_solid(c[0], c[1], c[2]);
+  const LatticeView view(fluid);
+  const std::unordered_map<std::size_t, NeighbourCell> remote = neighbour_cells(fluid);
+  const auto now_solid = [&](const std::array<int, 3>& wrapped) {
+    return std::binary_search(whole_solids_.begin(), whole_solids_.end(), view.index(wrapped));
   };
   const auto velocities = lbm::velocity_set(fluid.config().lattice);
+  const std::size_t q = velocities.size();
   const Eigen::Matrix3d to_body = pose_.body_to_inertial.transpose();
-  for (const std::array<int, 3>& x : fluid.solid_cell_list()) {
-    if (now_solid.count(fluid.linear_index(x[0], x[1], x[2]))) continue;
+  std::vector<double> f_neq(q);
+  for (const std::array<int, 3>& local : fluid.solid_cell_list()) {
+    const std::array<int, 3> x = view.to_lattice(local);
+    if (now_solid(x)) continue;
     // Away from the body: the outward normal at the nearest surface point.
     const Eigen::Vector3d p_b = to_body * ((Eigen::Vector3d(x[0], x[1], x[2]) - pose_.centre) * dx_si_);
     const Eigen::Vector3d normal = pose_.body_to_inertial * shape_->outward_normal(shape_->closest_surface_point(p_b));
     double density_sum = 0.0;
     int count = 0;
+    // The donor: a cell of this block, or one of another block's (remote).
     std::optional<std::array<int, 3>> donor;
+    const NeighbourCell* remote_donor = nullptr;
     double best = -2.0;
-    for (std::size_t j = 1; j < velocities.size(); ++j) {
-      const std::array<int, 3> y{x[0] + velocities[j][0], x[1] + velocities[j][1], x[2] + velocities[j][2]};
-      if (!fluid_before_and_after(y)) continue;
-      density_sum += fluid.cell_density(y[0], y[1], y[2]);
+    for (std::size_t j = 1; j < q; ++j) {
+      const auto y = view.wrap({x[0] + velocities[j][0], x[1] + velocities[j][1], x[2] + velocities[j][2]});
+      if (!y || now_solid(*y)) continue;
+      const NeighbourCell* other = nullptr;
+      std::array<int, 3> yl{};
+      if (view.owner(*y) == view.rank()) {
+        yl = view.to_block(*y);
+        if (fluid.is_solid(yl[0], yl[1], yl[2])) continue;
+        density_sum += fluid.cell_density(yl[0], yl[1], yl[2]);
+      } else {
+        const auto it = remote.find(view.index(*y));
+        if (it == remote.end()) throw std::logic_error("momentum exchange: no data for a neighbour in another block");
+        other = &it->second;
+        if (other->solid) continue;
+        density_sum += other->density;
+      }
       ++count;
       const Eigen::Vector3d c(velocities[j][0], velocities[j][1], velocities[j][2]);
       const double along = c.normalized().dot(normal);
-      if (along > best) best = along, donor = y;
+      if (along > best) {
+        best = along;
+        remote_donor = other;
+        donor.reset();
+        if (!other) donor = yl;
+      }
     }
+    std::fill(f_neq.begin(), f_neq.end(), 0.0);
+    if (donor) fluid.non_equilibrium((*donor)[0], (*donor)[1], (*donor)[2], f_neq);
+    if (remote_donor) f_neq = remote_donor->non_equilibrium;
     const Eigen::Vector3d u = pose_.velocity_at(Eigen::Vector3d(x[0], x[1], x[2]));
-    fluid.refill_cell(x, count > 0 ? density_sum / count : 1.0, u, donor);
+    fluid.refill_cell_with(local, count > 0 ? density_sum / count : 1.0, u, f_neq);
   }
 }
 
@@ -148,13 +313,44 @@ void MomentumExchangeCoupling::impose(lbm::Solver& fluid) {
   fluid.set_obstacle(walls_.obstacle);
 }
 
-CouplingForces MomentumExchangeCoupling::measure(const lbm::Solver& fluid) {
+LatticeWrench MomentumExchangeCoupling::link_sum(const lbm::Solver& fluid) const {
   LatticeWrench links;
   const auto& momentum = fluid.wall_momentum();
-  for (std::size_t k = 0; k < momentum.size(); ++k) {
-    links.force += momentum[k];
-    links.torque += (walls_.crossing[k] - pose_.centre).cross(momentum[k]);
+  if (!LatticeView(fluid).split()) {
+    for (std::size_t k = 0; k < momentum.size(); ++k) {
+      links.force += momentum[k];
+      links.torque += (walls_.crossing[k] - pose_.centre).cross(momentum[k]);
+    }
+    return links;
   }
+  // Every block's links, gathered and added in the whole lattice's link order: the same sum, bit
+  // for bit, as one process makes (at the cost of every rank receiving every link's momentum).
+  std::vector<double> mine;
+  mine.reserve(4 * momentum.size());
+  for (std::size_t k = 0; k < momentum.size(); ++k) {
+    mine.insert(mine.end(), {static_cast<double>(link_index_[k]), momentum[k].x(), momentum[k].y(), momentum[k].z()});
+  }
+  std::vector<Eigen::Vector3d> ordered(whole_link_count_, Eigen::Vector3d::Zero());
+  std::vector<char> have(whole_link_count_, 0);
+  for (const std::vector<double>& part : communicator_.gather_all(mine)) {
+    for (std::size_t at = 0; at + 3 < part.size(); at += 4) {
+      const auto k = static_cast<std::size_t>(part[at]);
+      ordered.at(k) = Eigen::Vector3d(part[at + 1], part[at + 2], part[at + 3]);
+      have[k] = 1;
+    }
+  }
+  if (std::count(have.begin(), have.end(), 1) != static_cast<std::ptrdiff_t>(whole_link_count_)) {
+    throw std::logic_error("momentum exchange: the blocks' links do not add up to the body's");
+  }
+  for (std::size_t k = 0; k < whole_link_count_; ++k) {
+    links.force += ordered[k];
+    links.torque += (whole_crossing_[k] - pose_.centre).cross(ordered[k]);
+  }
+  return links;
+}
+
+CouplingForces MomentumExchangeCoupling::measure(const lbm::Solver& fluid) {
+  const LatticeWrench links = link_sum(fluid);
   CouplingForces f;
   f.surface.force = 0.5 * (links.force + previous_links_.force);
   f.surface.torque = 0.5 * (links.torque + previous_links_.torque);
@@ -163,7 +359,7 @@ CouplingForces MomentumExchangeCoupling::measure(const lbm::Solver& fluid) {
   // volume too; inside an immersed boundary the enclosed fluid passes it on, here the solid
   // cells take it directly.
   f.total = f.surface;
-  f.total.force += fluid.config().body_force * static_cast<double>(fluid.solid_cell_count());
+  f.total.force += fluid.config().body_force * static_cast<double>(whole_solids_.size());
   return f;
 }
 

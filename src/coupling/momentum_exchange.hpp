@@ -24,6 +24,14 @@
 // adding them in balance left the path as it was: docs/notes.md, 2026-11-26, "Case B's spin",
 // controls 9 and 10).
 //
+// On a block of a split lattice (docs/parallel.md) every rank finds the body's walls on the whole
+// lattice and keeps its part: its own solid cells, those of adjacent blocks in its ghost layer, and
+// the links of its own fluid cells. The cells next to an uncovered cell that lie in another block
+// come from that block in an exchange each step (their solidity, density and non-equilibrium
+// part, for the cells of the body's box along the block faces), and the link momenta are gathered
+// from every rank and added in the order of the links on the whole lattice, so the wrench, the
+// refill and with them the whole run are the same bits for any number of ranks.
+//
 // The wrench a step reports is the mean of the link sums of that step and the one before. A body
 // that moves across the grid makes the link sum alternate from one step to the next (measured: the
 // drag coefficient of a sphere towed at Re = 243, tau = 0.51, 0.46 after one kind of step and 1.00
@@ -35,9 +43,11 @@
 // held); checkpoints carry the earlier step's link sum.
 #include <memory>
 #include <span>
+#include <unordered_map>
 #include <vector>
 
 #include "coupling/body_coupling.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::coupling {
 
@@ -60,7 +70,8 @@ CellBox momentum_exchange_box(const body::Shape& shape, double dx_si, const Eige
 
 class MomentumExchangeCoupling final : public BodyCoupling {
  public:
-  MomentumExchangeCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options);
+  MomentumExchangeCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options,
+                           parallel::Communicator& communicator);
 
   CouplingKind kind() const override { return CouplingKind::momentum_exchange; }
   CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const override;
@@ -69,19 +80,35 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   void impose(lbm::Solver& fluid) override;
   CouplingForces measure(const lbm::Solver& fluid) override;
   bool fluid_inside() const override { return false; }
-  std::size_t surface_element_count() const override { return walls_.obstacle.links.size(); }
+  std::size_t surface_element_count() const override { return whole_link_count_; }
   /// The previous step's link sum (force, torque), for the two-step mean.
   std::array<double, 6> carried_state() const override;
   void restore_carried_state(const std::array<double, 6>& state) override;
 
  private:
+  struct NeighbourCell {
+    bool solid = false;
+    double density = 1.0;
+    std::vector<double> non_equilibrium;
+  };
   void refill_uncovered(lbm::Solver& fluid) const;
+  /// The cells of other blocks in this block's ghost layer within the body's box (by their index on
+  /// the whole lattice), from an exchange with the adjacent blocks.
+  std::unordered_map<std::size_t, NeighbourCell> neighbour_cells(const lbm::Solver& fluid) const;
+  LatticeWrench link_sum(const lbm::Solver& fluid) const;
 
   std::shared_ptr<const body::Shape> shape_;
   double dx_si_;
   CouplingOptions options_;
+  parallel::Communicator& communicator_;
   LatticePose pose_;
+  /// This block's walls (all of them when unsplit), each link's index among the whole lattice's
+  /// links, the whole lattice's solid cells (wrapped indices, ascending) and link count.
   BodyWalls walls_;
+  std::vector<std::size_t> link_index_;
+  std::vector<Eigen::Vector3d> whole_crossing_;  ///< of every link of the whole lattice, when split
+  std::vector<std::size_t> whole_solids_;
+  std::size_t whole_link_count_ = 0;
   LatticeWrench previous_links_;
 };
 

@@ -8,6 +8,8 @@
 
 #include "common/error.hpp"
 #include "ibm/forcing.hpp"
+#include "lbm/decomposition.hpp"
+#include "parallel/lattice_steps.hpp"
 
 namespace settle::coupling {
 namespace {
@@ -79,7 +81,8 @@ double SubstepTimers::total() const {
   return sum;
 }
 
-Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), plan_(plan_case(setup_)) {
+Simulation::Simulation(SimulationSetup setup, parallel::Communicator& communicator)
+    : setup_(std::move(setup)), communicator_(communicator), plan_(plan_case(setup_)) {
   const body::Shape& shape = *setup_.shape;
   derived_.cells = grid_cells(plan_, setup_);
   frame_.dx_si = plan_.units.dx_si();
@@ -87,7 +90,12 @@ Simulation::Simulation(SimulationSetup setup) : setup_(std::move(setup)), plan_(
   const lbm::SolverConfig config = fluid_config();
   lbm::validate(config);
 
-  coupling_ = make_coupling(setup_.shape, plan_.units.dx_si(), coupling_options(setup_));
+  if (communicator_.size() > 1 && setup_.coupling != CouplingKind::momentum_exchange) {
+    throw InputError(
+        "numerics.coupling: across processes (mpirun) only \"momentum_exchange\" runs yet; the immersed boundary "
+        "runs in one process");
+  }
+  coupling_ = make_coupling(setup_.shape, plan_.units.dx_si(), coupling_options(setup_), communicator_);
 
   // The body and the cells its coupling works on must start inside the grid: checked before the
   // grid is allocated, by the rule the preflight applies too.
@@ -120,6 +128,11 @@ lbm::SolverConfig Simulation::fluid_config() const {
   config.nx = derived_.cells[0];
   config.ny = derived_.cells[1];
   config.nz = derived_.cells[2];
+  if (communicator_.size() > 1) {
+    config.split = lbm::choose_split(derived_.cells, communicator_.size(), communicator_.rank());
+    const std::array<int, 3> block = config.split->extent(communicator_.rank());
+    config.nx = block[0], config.ny = block[1], config.nz = block[2];
+  }
   config.boundaries = setup_.boundaries;
   config.tau = plan_.units.tau();
   for (int a = 0; a < 3; ++a) config.body_force[a] = plan_.units.force_density(setup_.body_force_si[a]);
@@ -184,7 +197,7 @@ void Simulation::step() {
   }
   {
     ScopedTimer timer(timers_, "fluid");
-    fluid_->step();
+    parallel::step(*fluid_, communicator_);
   }
   {
     ScopedTimer timer(timers_, "hydrodynamic_force");
@@ -235,7 +248,7 @@ void Simulation::follow_body() {
     const double offset = centre[a] - window_anchor_[a];
     if (std::abs(offset) < 1.0) continue;
     const int sign = offset > 0.0 ? 1 : -1;
-    fluid_->shift(a, sign);
+    parallel::shift(*fluid_, a, sign, communicator_);
     frame_.window_origin_si[a] += sign * plan_.units.dx_si();
   }
 }
@@ -253,7 +266,11 @@ Eigen::Vector3d Simulation::superficial_velocity_si() const {
       sum -= cells.alpha[n] * fluid_->cell_velocity(c[0], c[1], c[2]);
     }
   }
-  Eigen::Vector3d mean = sum / static_cast<double>(fluid_->cell_count());
+  if (communicator_.size() > 1) {
+    const std::vector<double> total = parallel::sum_in_rank_order(communicator_, {sum.x(), sum.y(), sum.z()});
+    sum = Eigen::Vector3d(total[0], total[1], total[2]);
+  }
+  Eigen::Vector3d mean = sum / plan_.cell_count();
   for (int a = 0; a < 3; ++a) mean[a] = plan_.units.velocity_si(mean[a]);
   return mean;
 }

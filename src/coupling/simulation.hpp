@@ -56,6 +56,7 @@
 #include "ibm/delta.hpp"
 #include "lbm/config.hpp"
 #include "lbm/solver.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::coupling {
 
@@ -98,8 +99,11 @@ class Simulation {
 
  public:
   /// Converts units and checks the case before allocating anything (settle::InputError naming
-  /// the key to change); then builds the fluid, the body and its markers.
-  explicit Simulation(SimulationSetup setup);
+  /// the key to change); then builds the fluid, the body and its markers. With a communicator of
+  /// more than one rank, this rank holds one block of the lattice (lbm::choose_split) and the body
+  /// is coupled across the blocks (momentum exchange only; docs/parallel.md): every rank steps
+  /// together and holds the same body state.
+  explicit Simulation(SimulationSetup setup, parallel::Communicator& communicator = parallel::single_process());
 
   /// One coupled time step (file comment).
   void step();
@@ -139,6 +143,7 @@ class Simulation {
   void follow_body();
 
   SimulationSetup setup_;
+  parallel::Communicator& communicator_;
   CasePlan plan_;
   DerivedQuantities derived_;
   LatticeFrame frame_;

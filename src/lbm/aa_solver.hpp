@@ -193,17 +193,23 @@ class AaSolver final : public Solver {
     }
   }
 
-  void refill_cell(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
-                   const std::optional<std::array<int, 3>>& donor) override {
-    double non_equilibrium[Q] = {};
-    if (donor) {
-      const auto d = resolve((*donor)[0], (*donor)[1], (*donor)[2]);
-      double g[Q];
-      gather_shifted(d, g);
-      const auto F = cell_force(d[0], d[1], d[2]);
-      const Macroscopic<L> m = macroscopic<L>(g, F.data());
-      for (int i = 0; i < Q; ++i)
-        non_equilibrium[i] = g[i] - shifted_equilibrium<L>(i, m.drho, m.rho, m.ux, m.uy, m.uz);
+  double non_equilibrium(int x, int y, int z, std::span<double> f_neq) const override {
+    if (f_neq.size() < static_cast<std::size_t>(Q)) {
+      throw std::invalid_argument("non_equilibrium: span holds fewer than Q values");
+    }
+    const auto d = resolve(x, y, z);
+    double g[Q];
+    gather_shifted(d, g);
+    const auto F = cell_force(d[0], d[1], d[2]);
+    const Macroscopic<L> m = macroscopic<L>(g, F.data());
+    for (int i = 0; i < Q; ++i) f_neq[i] = g[i] - shifted_equilibrium<L>(i, m.drho, m.rho, m.ux, m.uy, m.uz);
+    return m.rho;
+  }
+
+  void refill_cell_with(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
+                        std::span<const double> non_equilibrium) override {
+    if (non_equilibrium.size() < static_cast<std::size_t>(Q)) {
+      throw std::invalid_argument("refill_cell_with: span holds fewer than Q values");
     }
     double f[Q];
     for (int i = 0; i < Q; ++i) {

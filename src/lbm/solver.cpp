@@ -50,6 +50,13 @@ double derivative(const Solver& solver, const std::vector<double>& field, int ax
 
 }  // namespace
 
+void Solver::refill_cell(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
+                         const std::optional<std::array<int, 3>>& donor) {
+  std::vector<double> f_neq(static_cast<std::size_t>(velocity_count()), 0.0);
+  if (donor) non_equilibrium((*donor)[0], (*donor)[1], (*donor)[2], f_neq);
+  refill_cell_with(cell, rho, u, f_neq);
+}
+
 std::span<const std::array<int, 3>> velocity_set(LatticeKind kind) {
   if (kind == LatticeKind::D3Q27) return D3Q27::set.c;
   return D3Q19::set.c;

@@ -223,8 +223,15 @@ class Solver {
   /// velocity u plus the non-equilibrium part f - f_eq of the fluid cell `donor` (Caiazzo 2008's
   /// refill, the non-equilibrium part copied from one neighbour; the equilibrium alone without
   /// a donor). Either parity.
-  virtual void refill_cell(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
-                           const std::optional<std::array<int, 3>>& donor) = 0;
+  void refill_cell(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
+                   const std::optional<std::array<int, 3>>& donor);
+  /// The same with the donor's non-equilibrium part given (Q values: non_equilibrium() of a cell
+  /// that may live in another block).
+  virtual void refill_cell_with(const std::array<int, 3>& cell, double rho, const Eigen::Vector3d& u,
+                                std::span<const double> non_equilibrium) = 0;
+  /// The non-equilibrium part f - f_eq of a fluid cell's populations (Q values into `f_neq`, Guo's
+  /// velocity in f_eq), and its density as the return value: what a refill takes from a donor.
+  virtual double non_equilibrium(int x, int y, int z, std::span<double> f_neq) const = 0;
 
   /// The velocity of the velocity faces from the next step on (config().inflow_velocity at the
   /// start): a stream can be ramped up. Throws std::invalid_argument beyond magnitude 0.3.

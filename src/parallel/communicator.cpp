@@ -107,13 +107,17 @@ bool launched_by_mpi() {
   return false;
 }
 
+Communicator& single_process() {
+  static SingleProcess one;
+  return one;
+}
+
 Communicator& world() {
   if (launched_by_mpi()) {
     static MpiWorld mpi;
     return mpi;
   }
-  static SingleProcess one;
-  return one;
+  return single_process();
 }
 
 std::string mpi_library_version() {

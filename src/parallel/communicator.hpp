@@ -32,6 +32,9 @@ std::vector<double> sum_in_rank_order(Communicator& communicator, const std::vec
 /// mpirun, Hydra and Slurm's PMI set for their processes).
 bool launched_by_mpi();
 
+/// A run of one process, rank 0 of 1, whether or not MPI runs (for work that is not split).
+Communicator& single_process();
+
 /// The communicator of this process: MPI's world when launched_by_mpi() (MPI initialised at the
 /// first call, finalised at exit), otherwise a run of one.
 Communicator& world();
