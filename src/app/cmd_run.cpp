@@ -46,6 +46,7 @@
 #include "io/pvd.hpp"
 #include "io/vtk.hpp"
 #include "lbm/config.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::app {
 namespace {
@@ -361,7 +362,17 @@ void run_case(const RunOptions& options) {
   const fs::path base = restart             ? restart->run_dir()
                         : case_path.empty() ? fs::current_path()
                                             : fs::absolute(case_path).parent_path();
-  Console console(options.quiet ? Verbosity::quiet : options.verbose ? Verbosity::verbose : Verbosity::normal);
+  // Under mpirun every rank runs this function on its block of the lattice (docs/parallel.md);
+  // rank 0 alone speaks and writes.
+  parallel::Communicator& world = parallel::world();
+  const bool split = world.size() > 1, lead = world.rank() == 0;
+  if (split && restart) {
+    throw InputError("--restart: continuing a run across processes is not supported yet; continue it in one process");
+  }
+  Console console(!lead             ? Verbosity::silent
+                  : options.quiet   ? Verbosity::quiet
+                  : options.verbose ? Verbosity::verbose
+                                    : Verbosity::normal);
   std::vector<std::string> warnings = io::unsupported_key_warnings(values);
   for (const auto& w : warnings) console.warning(w);
 
@@ -378,11 +389,11 @@ void run_case(const RunOptions& options) {
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
   if (options.dry_run) {
     if (options.threads > 0) omp_set_num_threads(options.threads);
-    std::fputs(run_plan_text(setup, report).c_str(), stdout);
+    if (lead) std::fputs(run_plan_text(setup, report).c_str(), stdout);
     return;
   }
 
-  coupling::Simulation sim(std::move(setup));
+  coupling::Simulation sim(std::move(setup), world);
   if (restart) restart->restore(sim);
   if (options.threads > 0)
     omp_set_num_threads(options.threads);
@@ -398,18 +409,35 @@ void run_case(const RunOptions& options) {
                   sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)", omp_get_max_threads()));
 
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
-  const std::unique_ptr<RunDirectoryLock> lock = prepare_output_directory(dir);
-  const std::string resolved_case =
-      restart ? restart->resolved_case()
-              : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
-  write_file_atomically(dir / "case.resolved.toml", resolved_case);
-  if (!restart) remove_earlier_checkpoint(dir);
+  std::unique_ptr<RunDirectoryLock> lock;
+  std::string resolved_case;
+  std::optional<io::TimeseriesWriter> timeseries;
+  std::exception_ptr failed;
+  if (lead) {
+    try {
+      lock = prepare_output_directory(dir);
+      resolved_case = restart ? restart->resolved_case()
+                              : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
+      write_file_atomically(dir / "case.resolved.toml", resolved_case);
+      if (!restart) remove_earlier_checkpoint(dir);
+      timeseries.emplace(restart
+                             ? io::TimeseriesWriter::continue_at(dir / "timeseries.csv", restart->timeseries_bytes())
+                             : io::TimeseriesWriter(dir / "timeseries.csv"));
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  }
+  // The other ranks learn whether rank 0 could prepare the directory before the first step's
+  // messages, which would otherwise wait for it forever.
+  if (split && parallel::sum_in_rank_order(world, {failed ? 1.0 : 0.0})[0] > 0.0 && !failed) {
+    throw InputError("the output directory could not be prepared (rank 0 says why)");
+  }
+  if (failed) std::rethrow_exception(failed);
 
-  io::TimeseriesWriter timeseries =
-      restart ? io::TimeseriesWriter::continue_at(dir / "timeseries.csv", restart->timeseries_bytes())
-              : io::TimeseriesWriter(dir / "timeseries.csv");
   coupling::RunCallbacks callbacks;
-  callbacks.on_sample = [&](const coupling::Sample& s) { timeseries.write(s); };
+  callbacks.on_sample = [&](const coupling::Sample& s) {
+    if (timeseries) timeseries->write(s);
+  };
   callbacks.on_progress = [&console](const std::string& line) { console.progress(line); };
   std::optional<analysis::TerminalStateDetector> terminal = terminal_detector(values, sim, console);
   if (terminal)
@@ -424,7 +452,9 @@ void run_case(const RunOptions& options) {
     for (const coupling::Sample& s : restart->loop().samples)
       if (s.t_si >= analysis::released_from(sim.setup().release_time_si)) terminal->add(s.t_si, s.velocity_si);
   std::optional<VtkOutput> vtk;
-  if (values.real("run.vtk_interval") > 0.0) {
+  if (split && values.real("run.vtk_interval") > 0.0) {
+    console.warning("run.vtk_interval: fields are not written by a run across processes yet (docs/parallel.md)");
+  } else if (values.real("run.vtk_interval") > 0.0) {
     vtk.emplace(sim, dir, values.real("run.vtk_interval"));
     if (restart) vtk->resume(restart->vtk(), restart->time_si());
     callbacks.after_step = [&vtk](double t_si, double dt_si) { vtk->after_step(t_si, dt_si); };
@@ -437,6 +467,14 @@ void run_case(const RunOptions& options) {
   };
   const InterruptSignals signals;
   callbacks.interrupted = [&signals] { return signals.raised(); };
+  if (split) {
+    // Each rank would see a signal after a different step and stop alone; mpirun ends them all.
+    if (callbacks.checkpoint_interval_si > 0.0 || callbacks.checkpoint_wall_interval_s > 0.0) {
+      console.warning("run.checkpoint_interval: a run across processes writes no checkpoints yet (docs/parallel.md)");
+    }
+    callbacks.checkpoint_due = nullptr;
+    callbacks.interrupted = nullptr;
+  }
   if (restart)
     console.info(fmt::format("{}: continuing from {} at t = {:.6g} s (step {})", name, restart->file().string(),
                              restart->time_si(), restart->loop().step));
@@ -453,6 +491,7 @@ void run_case(const RunOptions& options) {
   }
   if (result.stop_reason == "interrupted")
     throw interrupted_error(signals.signal_number(), result, dir, checkpoints.file());
+  if (!lead) return;
   const nlohmann::json summary_document = write_summary(values, sim, result, warnings, dir, console);
   report_end(console, sim, result, summary_document, dir);
 }

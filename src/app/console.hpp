@@ -12,21 +12,24 @@
 
 namespace settle::app {
 
-enum class Verbosity { quiet, normal, verbose };
+/// silent: nothing at all (the ranks other than 0 of a run across processes).
+enum class Verbosity { silent, quiet, normal, verbose };
 
 class Console {
  public:
   explicit Console(Verbosity verbosity) : verbosity_(verbosity), terminal_(isatty(fileno(stderr)) == 1) {}
 
-  void warning(const std::string& text) { line("warning: " + text); }
+  void warning(const std::string& text) {
+    if (verbosity_ != Verbosity::silent) line("warning: " + text);
+  }
   void info(const std::string& text) {
-    if (verbosity_ != Verbosity::quiet) line(text);
+    if (verbosity_ != Verbosity::quiet && verbosity_ != Verbosity::silent) line(text);
   }
   void detail(const std::string& text) {
     if (verbosity_ == Verbosity::verbose) line(text);
   }
   void progress(const std::string& text) {
-    if (verbosity_ == Verbosity::quiet) return;
+    if (verbosity_ == Verbosity::quiet || verbosity_ == Verbosity::silent) return;
     if (!terminal_) return line(text);
     // \r and clear to the end of the line (ANSI EL): a shorter line leaves nothing behind.
     fmt::print(stderr, "\rsettle run: {}\x1b[K", text);

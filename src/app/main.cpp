@@ -11,6 +11,22 @@
 #include "parallel/communicator.hpp"
 #include "settle/version.hpp"
 
+namespace {
+
+// Under mpirun every rank meets the same bad case or the same failing health check (both are decided
+// on data every rank holds alike), so rank 0 alone reports them and each rank exits with the code.
+bool reports_errors() { return !settle::parallel::launched_by_mpi() || settle::parallel::world().rank() == 0; }
+
+// A failure of one rank alone (an internal error, a file rank 0 cannot write) would leave the others
+// waiting for its messages: it ends every process of the run.
+int fail_alone(int code) {
+  if (settle::parallel::launched_by_mpi() && settle::parallel::world().size() > 1)
+    settle::parallel::world().abort(code);
+  return code;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"settle: resolved simulation of rigid particles of any shape settling in a quiescent fluid"};
   app.set_version_flag("--version",
@@ -33,17 +49,17 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   } catch (const settle::InputError& e) {
-    fmt::print(stderr, "settle: error: {}\n", e.what());
+    if (reports_errors()) fmt::print(stderr, "settle: error: {}\n", e.what());
     return 2;
   } catch (const settle::NumericalError& e) {
-    fmt::print(stderr, "settle: run stopped: {}\n", e.what());
+    if (reports_errors()) fmt::print(stderr, "settle: run stopped: {}\n", e.what());
     return 3;
   } catch (const settle::RunInterrupted& e) {
     fmt::print(stderr, "settle: {}\n", e.what());
     return e.exit_status();
   } catch (const std::exception& e) {
     fmt::print(stderr, "settle: internal error: {}\n", e.what());
-    return 1;
+    return fail_alone(1);
   }
   return 0;
 }

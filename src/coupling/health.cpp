@@ -14,8 +14,8 @@ bool body_finite(const Simulation& sim) {
   return s.position_si.allFinite() && s.velocity_si.allFinite() && s.angular_velocity_b_si.allFinite();
 }
 
-lbm::FieldExtrema measure_fluid(const lbm::Solver& fluid, HealthReport& r) {
-  const lbm::FieldExtrema e = fluid.extrema();
+lbm::FieldExtrema measure_fluid(const Simulation& sim, HealthReport& r) {
+  const lbm::FieldExtrema e = sim.fluid_extrema();
   r.finite = r.finite && e.finite;
   r.min_density = e.min_density;
   r.max_density = e.max_density;
@@ -77,7 +77,7 @@ std::string density_cause(const Simulation& sim, const Place& place) {
 HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
   HealthReport r;
   r.finite = body_finite(sim);
-  const lbm::FieldExtrema e = measure_fluid(sim.fluid(), r);
+  const lbm::FieldExtrema e = measure_fluid(sim, r);
   const double design_speed = sim.setup().max_lattice_velocity;
   if (!r.finite) {
     r.problem = fmt::format(

@@ -26,7 +26,7 @@ std::string progress_line(const Simulation& sim, const TimeControl& time, std::i
   const double steps_done = static_cast<double>(time.step() - start_step);
   const double steps_left = static_cast<double>(std::max<std::int64_t>(0, time.total_steps() - time.step()));
   const double eta = steps_done > 0.0 ? wall_s * steps_left / steps_done : 0.0;
-  const double mlups = static_cast<double>(sim.fluid().cell_count()) * steps_done / wall_s / 1e6;
+  const double mlups = sim.lattice_cell_count() * steps_done / wall_s / 1e6;
   return fmt::format("t = {:.4g} s ({:.1f}%), |u| = {:.4g} m/s, ETA {:.0f} s, {:.1f} MLUPS", time.time_si(),
                      100.0 * fraction, sim.body().state().velocity_si.norm(), eta, mlups);
 }
@@ -146,9 +146,9 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
   result.steps = time.step();
   result.simulated_time_si = time.time_si();
   result.wall_seconds = wall_so_far();
-  result.mlups = result.wall_seconds > 0.0 ? static_cast<double>(sim.fluid().cell_count()) *
-                                                 static_cast<double>(result.steps) / result.wall_seconds / 1e6
-                                           : 0.0;
+  result.mlups = result.wall_seconds > 0.0
+                     ? sim.lattice_cell_count() * static_cast<double>(result.steps) / result.wall_seconds / 1e6
+                     : 0.0;
   return result;
 }
 

@@ -253,6 +253,28 @@ void Simulation::follow_body() {
   }
 }
 
+lbm::FieldExtrema Simulation::fluid_extrema() const {
+  lbm::FieldExtrema mine = fluid_->extrema();
+  if (communicator_.size() == 1) return mine;
+  const std::array<int, 3> o = fluid_->config().split->offset(communicator_.rank());
+  std::vector<double> packed{mine.finite ? 1.0 : 0.0, mine.min_density, mine.max_density, mine.max_speed};
+  for (const auto* cell : {&mine.min_density_cell, &mine.max_density_cell, &mine.max_speed_cell})
+    for (std::size_t a = 0; a < 3; ++a) packed.push_back((*cell)[a] + o[a]);
+  // In rank order with the rule of one block's rows (the first extreme wins a tie).
+  lbm::FieldExtrema all;
+  const auto cell_at = [](const std::vector<double>& p, std::size_t first) {
+    return std::array<int, 3>{static_cast<int>(p[first]), static_cast<int>(p[first + 1]),
+                              static_cast<int>(p[first + 2])};
+  };
+  for (const std::vector<double>& p : communicator_.gather_all(packed)) {
+    all.finite = all.finite && p[0] != 0.0;
+    if (p[1] < all.min_density) all.min_density = p[1], all.min_density_cell = cell_at(p, 4);
+    if (p[2] > all.max_density) all.max_density = p[2], all.max_density_cell = cell_at(p, 7);
+    if (p[3] > all.max_speed) all.max_speed = p[3], all.max_speed_cell = cell_at(p, 10);
+  }
+  return all;
+}
+
 Eigen::Vector3d Simulation::superficial_velocity_si() const {
   const lbm::VectorField u = fluid_->velocity_field();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();

@@ -131,6 +131,13 @@ class Simulation {
   /// Mean fluid velocity over the whole domain with the solid counted as zero (the superficial
   /// velocity of Zick and Homsy 1982), m/s. Sweeps the whole grid: for outputs, not every step.
   Eigen::Vector3d superficial_velocity_si() const;
+  /// The extremes of the whole lattice's density and speed (every rank's block, cells in whole-
+  /// lattice coordinates, the same on every rank): what the health check needs.
+  lbm::FieldExtrema fluid_extrema() const;
+  /// The ranks this simulation runs on (one, unless the lattice is split).
+  parallel::Communicator& communicator() const { return communicator_; }
+  /// The whole lattice's cell count (the fluid() of a split run holds one block).
+  double lattice_cell_count() const { return plan_.cell_count(); }
   /// The solid cells of the body at its current pose (lattice units).
   SolidCells current_solid_cells() const;
   const BodyCoupling& coupling() const { return *coupling_; }
