@@ -46,6 +46,8 @@
 #include "io/pvd.hpp"
 #include "io/vtk.hpp"
 #include "lbm/config.hpp"
+#include "lbm/decomposition.hpp"
+#include "lbm/solver.hpp"
 #include "parallel/communicator.hpp"
 
 namespace settle::app {
@@ -230,7 +232,9 @@ class VtkOutput {
         // Triangles about a cell wide: the surface at the resolution the fluid sees.
         surface_b_(body::surface_triangulation(*sim.setup().shape, sim.units().dx_si())),
         fluid_pvd_(dir_ / "fluid.pvd"),
-        surface_pvd_(dir_ / "surface.pvd") {
+        surface_pvd_(dir_ / "surface.pvd"),
+        lead_(sim.communicator().rank() == 0) {
+    if (!lead_) return;
     std::error_code error;
     fs::create_directories(dir_, error);
     if (error) throw InputError(fmt::format("-o: cannot create {}: {}", dir_.string(), error.message()));
@@ -242,10 +246,15 @@ class VtkOutput {
     io::VtkOptions options;
     options.time_si = t_si;
     const fs::path fluid_file = dir_ / ("fluid_" + index + ".vti");
-    const std::vector<io::ScalarPointField> extra{
-        {"solid_fraction", io::solid_fraction_field(sim_.fluid(), sim_.current_solid_cells())}};
-    io::write_fluid_vti(fluid_file, sim_.fluid(), io::field_scaling(sim_.units(), sim_.frame().window_origin_si),
-                        options, extra);
+    const io::FieldScaling scaling = io::field_scaling(sim_.units(), sim_.frame().window_origin_si);
+    if (sim_.communicator().size() > 1) {
+      write_gathered_fluid(fluid_file, scaling, options);
+      if (!lead_) return;
+    } else {
+      const std::vector<io::ScalarPointField> extra{
+          {"solid_fraction", io::solid_fraction_field(sim_.fluid(), sim_.current_solid_cells())}};
+      io::write_fluid_vti(fluid_file, sim_.fluid(), scaling, options, extra);
+    }
     fluid_pvd_.add(t_si, fluid_file);
     const fs::path surface_file = dir_ / ("surface_" + index + ".vtp");
     io::write_surface_vtp(surface_file, surface_b_, io::body_snapshot(sim_.body()), options);
@@ -263,6 +272,47 @@ class VtkOutput {
   }
 
  private:
+  // A split run: every rank sends its block's velocity and pressure to rank 0, which writes the
+  // file the one-process run writes (the vorticity from the whole velocity field). One file, so
+  // rank 0 holds the whole field while it writes (parallel pieces, .pvti, are not written yet).
+  void write_gathered_fluid(const fs::path& file, const io::FieldScaling& scaling, const io::VtkOptions& options) {
+    const lbm::Solver& block = sim_.fluid();
+    const lbm::VectorField u = block.velocity_field();
+    const std::vector<double> p = block.pressure_field();
+    std::vector<double> mine;
+    mine.reserve(4 * p.size());
+    for (std::size_t n = 0; n < p.size(); ++n) mine.insert(mine.end(), {u.x[n], u.y[n], u.z[n], p[n]});
+    const std::vector<std::vector<double>> parts = sim_.communicator().gather_to_root(mine);
+    if (parts.empty()) return;
+    const lbm::BlockSplit& split = *block.config().split;
+    io::FluidFieldArrays whole;
+    whole.cells = sim_.derived().cells;
+    const std::size_t cells = static_cast<std::size_t>(sim_.lattice_cell_count());
+    whole.velocity = {std::vector<double>(cells), std::vector<double>(cells), std::vector<double>(cells)};
+    whole.pressure.assign(cells, 0.0);
+    for (int r = 0; r < split.block_count(); ++r) {
+      const std::array<int, 3> o = split.offset(r), e = split.extent(r);
+      std::size_t k = 0;
+      for (int z = 0; z < e[2]; ++z)
+        for (int y = 0; y < e[1]; ++y)
+          for (int x = 0; x < e[0]; ++x) {
+            const std::size_t g =
+                static_cast<std::size_t>(x + o[0]) +
+                static_cast<std::size_t>(whole.cells[0]) *
+                    (static_cast<std::size_t>(y + o[1]) + static_cast<std::size_t>(whole.cells[1]) * (z + o[2]));
+            const std::vector<double>& part = parts[static_cast<std::size_t>(r)];
+            whole.velocity.x[g] = part[k], whole.velocity.y[g] = part[k + 1], whole.velocity.z[g] = part[k + 2];
+            whole.pressure[g] = part[k + 3];
+            k += 4;
+          }
+    }
+    whole.vorticity = lbm::vorticity_of(whole.velocity, whole.cells, block.config().boundaries);
+    const std::vector<io::ScalarPointField> extra{
+        {"solid_fraction",
+         io::solid_fraction_field(whole.cells, block.config().boundaries, sim_.current_solid_cells())}};
+    io::write_fluid_vti(file, whole, scaling, options, extra);
+  }
+
   const coupling::Simulation& sim_;
   fs::path dir_;
   coupling::OutputSchedule schedule_;
@@ -270,6 +320,7 @@ class VtkOutput {
   io::PvdCollection fluid_pvd_;
   io::PvdCollection surface_pvd_;
   int count_ = 0;
+  bool lead_;
 };
 
 // run.stop_at_terminal: the analysis' own detector and criteria (analysis/observables.hpp), fed
@@ -452,9 +503,7 @@ void run_case(const RunOptions& options) {
     for (const coupling::Sample& s : restart->loop().samples)
       if (s.t_si >= analysis::released_from(sim.setup().release_time_si)) terminal->add(s.t_si, s.velocity_si);
   std::optional<VtkOutput> vtk;
-  if (split && values.real("run.vtk_interval") > 0.0) {
-    console.warning("run.vtk_interval: fields are not written by a run across processes yet (docs/parallel.md)");
-  } else if (values.real("run.vtk_interval") > 0.0) {
+  if (values.real("run.vtk_interval") > 0.0) {
     vtk.emplace(sim, dir, values.real("run.vtk_interval"));
     if (restart) vtk->resume(restart->vtk(), restart->time_si());
     callbacks.after_step = [&vtk](double t_si, double dt_si) { vtk->after_step(t_si, dt_si); };

@@ -236,30 +236,19 @@ FieldScaling field_scaling(const coupling::UnitConverter& units, const Eigen::Ve
   return scaling;
 }
 
-void write_fluid_vti(const fs::path& path, const lbm::Solver& fluid, const FieldScaling& scaling,
-                     const VtkOptions& options, std::span<const ScalarPointField> extra) {
-  const std::size_t cells = fluid.cell_count();
-  check_extra_fields(extra, cells);
+namespace {
 
-  std::vector<AppendedArray> point_data;
-  point_data.push_back(vector_array(
-      "velocity", options.precision, cells, [&fluid] { return fluid.velocity_field(); }, scaling.velocity_scale_si()));
-  point_data.push_back(scalar_array(
-      "pressure", options.precision, cells, [&fluid] { return fluid.pressure_field(); }, scaling.pressure_scale_si()));
-  point_data.push_back(vector_array(
-      "vorticity", options.precision, cells, [&fluid] { return fluid.vorticity_field(); }, scaling.rate_scale_si()));
-  for (const ScalarPointField& field : extra)
-    point_data.push_back({field.name, float_type(options.precision), 1, cells, [&field](ValueStream& s) {
-                            for (const double value : field.values) s.put(value);
-                          }});
-
+// The fluid's ImageData file from its point arrays (velocity, pressure, vorticity, extras), however
+// they were obtained.
+void write_fluid_image(const fs::path& path, const std::array<int, 3>& cells, std::vector<AppendedArray> point_data,
+                       const FieldScaling& scaling, const VtkOptions& options) {
   const std::optional<AppendedArray> time = time_array(options);
   std::vector<const AppendedArray*> order;
   if (time) order.push_back(&*time);
   for (const AppendedArray& array : point_data) order.push_back(&array);
   const VtkFileWriter writer(order);
 
-  const std::string extent = fmt::format("0 {} 0 {} 0 {}", fluid.nx() - 1, fluid.ny() - 1, fluid.nz() - 1);
+  const std::string extent = fmt::format("0 {} 0 {} 0 {}", cells[0] - 1, cells[1] - 1, cells[2] - 1);
   // Points at the cell centres: cell (0, 0, 0) is centred half a cell inside the window's corner.
   const Eigen::Vector3d origin_si = scaling.window_origin_si + Eigen::Vector3d::Constant(0.5 * scaling.dx_si);
   std::string xml = file_header("ImageData");
@@ -273,10 +262,58 @@ void write_fluid_vti(const fs::path& path, const lbm::Solver& fluid, const Field
   writer.write(path, xml);
 }
 
+void add_extra_fields(std::vector<AppendedArray>& point_data, std::span<const ScalarPointField> extra,
+                      const VtkOptions& options, std::size_t cells) {
+  for (const ScalarPointField& field : extra)
+    point_data.push_back({field.name, float_type(options.precision), 1, cells, [&field](ValueStream& s) {
+                            for (const double value : field.values) s.put(value);
+                          }});
+}
+
+}  // namespace
+
+void write_fluid_vti(const fs::path& path, const lbm::Solver& fluid, const FieldScaling& scaling,
+                     const VtkOptions& options, std::span<const ScalarPointField> extra) {
+  const std::size_t cells = fluid.cell_count();
+  check_extra_fields(extra, cells);
+  std::vector<AppendedArray> point_data;
+  point_data.push_back(vector_array(
+      "velocity", options.precision, cells, [&fluid] { return fluid.velocity_field(); }, scaling.velocity_scale_si()));
+  point_data.push_back(scalar_array(
+      "pressure", options.precision, cells, [&fluid] { return fluid.pressure_field(); }, scaling.pressure_scale_si()));
+  point_data.push_back(vector_array(
+      "vorticity", options.precision, cells, [&fluid] { return fluid.vorticity_field(); }, scaling.rate_scale_si()));
+  add_extra_fields(point_data, extra, options, cells);
+  write_fluid_image(path, {fluid.nx(), fluid.ny(), fluid.nz()}, std::move(point_data), scaling, options);
+}
+
+void write_fluid_vti(const fs::path& path, const FluidFieldArrays& fields, const FieldScaling& scaling,
+                     const VtkOptions& options, std::span<const ScalarPointField> extra) {
+  const std::size_t cells = static_cast<std::size_t>(fields.cells[0]) * static_cast<std::size_t>(fields.cells[1]) *
+                            static_cast<std::size_t>(fields.cells[2]);
+  if (fields.velocity.x.size() != cells || fields.pressure.size() != cells || fields.vorticity.x.size() != cells) {
+    throw std::invalid_argument("write_fluid_vti: the fields do not hold one value per cell");
+  }
+  check_extra_fields(extra, cells);
+  std::vector<AppendedArray> point_data;
+  point_data.push_back(vector_array(
+      "velocity", options.precision, cells, [&fields] { return fields.velocity; }, scaling.velocity_scale_si()));
+  point_data.push_back(scalar_array(
+      "pressure", options.precision, cells, [&fields] { return fields.pressure; }, scaling.pressure_scale_si()));
+  point_data.push_back(vector_array(
+      "vorticity", options.precision, cells, [&fields] { return fields.vorticity; }, scaling.rate_scale_si()));
+  add_extra_fields(point_data, extra, options, cells);
+  write_fluid_image(path, fields.cells, std::move(point_data), scaling, options);
+}
+
 std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const coupling::SolidCells& cells) {
-  std::vector<double> alpha(fluid.cell_count(), 0.0);
-  const std::array<int, 3> n{fluid.nx(), fluid.ny(), fluid.nz()};
-  const auto& boundaries = fluid.config().boundaries;
+  return solid_fraction_field({fluid.nx(), fluid.ny(), fluid.nz()}, fluid.config().boundaries, cells);
+}
+
+std::vector<double> solid_fraction_field(const std::array<int, 3>& n, const std::array<lbm::Boundary, 3>& boundaries,
+                                         const coupling::SolidCells& cells) {
+  std::vector<double> alpha(
+      static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(n[2]), 0.0);
   for (std::size_t c = 0; c < cells.cell.size(); ++c) {
     std::array<int, 3> ijk = cells.cell[c];
     bool inside = true;
@@ -284,7 +321,11 @@ std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const couplin
       if (boundaries[a] == lbm::Boundary::periodic) ijk[a] = ((ijk[a] % n[a]) + n[a]) % n[a];
       inside = inside && ijk[a] >= 0 && ijk[a] < n[a];
     }
-    if (inside) alpha[fluid.linear_index(ijk[0], ijk[1], ijk[2])] = cells.alpha[c];
+    if (inside) {
+      alpha[static_cast<std::size_t>(ijk[0]) +
+            static_cast<std::size_t>(n[0]) *
+                (static_cast<std::size_t>(ijk[1]) + static_cast<std::size_t>(n[1]) * ijk[2])] = cells.alpha[c];
+    }
   }
   return alpha;
 }

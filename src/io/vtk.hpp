@@ -14,6 +14,7 @@
 // Every file is written atomically and durably (common/atomic_file.hpp), so a reader or a run that
 // stops never sees half a file. A file that cannot be written raises settle::InputError
 // naming its path. The caller creates the output directory.
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <optional>
@@ -84,10 +85,26 @@ struct ScalarPointField {
 void write_fluid_vti(const std::filesystem::path& path, const lbm::Solver& fluid, const FieldScaling& scaling,
                      const VtkOptions& options = {}, std::span<const ScalarPointField> extra = {});
 
+/// The fluid's fields as arrays (lattice units, linear index x + nx (y + ny z)): what the blocks of a
+/// split run gather for one file.
+struct FluidFieldArrays {
+  std::array<int, 3> cells{};
+  lbm::VectorField velocity;
+  std::vector<double> pressure;
+  lbm::VectorField vorticity;
+};
+
+/// The same file from arrays (write_fluid_vti above computes them from the solver).
+void write_fluid_vti(const std::filesystem::path& path, const FluidFieldArrays& fields, const FieldScaling& scaling,
+                     const VtkOptions& options = {}, std::span<const ScalarPointField> extra = {});
+
 /// Solid volume fraction per cell (linear index of `fluid`), 0 outside the body, from the body's
 /// solid cells (coupling::solid_cells). Cells on periodic axes wrap into the grid; cells outside
 /// a non-periodic axis (none, for a body the coupling can step) are dropped.
 std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const coupling::SolidCells& cells);
+/// The same on a lattice of extent n with these faces.
+std::vector<double> solid_fraction_field(const std::array<int, 3>& n, const std::array<lbm::Boundary, 3>& boundaries,
+                                         const coupling::SolidCells& cells);
 
 /// Where the body is and how it moves (SI, inertial frame).
 struct BodySnapshot {

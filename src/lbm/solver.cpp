@@ -27,19 +27,21 @@ std::unique_ptr<Solver> make_with_collision(const SolverConfig& config) {
   return nullptr;
 }
 
-/// d/d(axis) of `field` at cell (x, y, z) by second-order differences.
-double derivative(const Solver& solver, const std::vector<double>& field, int axis, int x, int y, int z) {
-  const std::array<int, 3> extent{solver.nx(), solver.ny(), solver.nz()};
+/// d/d(axis) of `field` (a lattice of extent n) at cell (x, y, z) by second-order differences.
+double derivative(const std::vector<double>& field, const std::array<int, 3>& extent,
+                  const std::array<Boundary, 3>& boundaries, int axis, int x, int y, int z) {
   const int n = extent[axis];
   if (n == 1) return 0.0;
   std::array<int, 3> c{x, y, z};
   const auto at = [&](int k) {
     std::array<int, 3> p = c;
     p[axis] = k;
-    return field[solver.linear_index(p[0], p[1], p[2])];
+    return field[static_cast<std::size_t>(p[0]) +
+                 static_cast<std::size_t>(extent[0]) *
+                     (static_cast<std::size_t>(p[1]) + static_cast<std::size_t>(extent[1]) * p[2])];
   };
   const int k = c[axis];
-  if (solver.config().boundaries[axis] == Boundary::periodic) {
+  if (boundaries[axis] == Boundary::periodic) {
     return 0.5 * (at((k + 1) % n) - at((k - 1 + n) % n));
   }
   if (n == 2) return at(1) - at(0);
@@ -75,18 +77,28 @@ std::vector<double> Solver::pressure_field() const {
 }
 
 VectorField Solver::vorticity_field() const {
-  const VectorField u = velocity_field();
-  VectorField w{std::vector<double>(cell_count()), std::vector<double>(cell_count()),
-                std::vector<double>(cell_count())};
-  const int nx_ = nx(), ny_ = ny(), nz_ = nz();
+  return vorticity_of(velocity_field(), {nx(), ny(), nz()}, config().boundaries);
+}
+
+VectorField vorticity_of(const VectorField& u, const std::array<int, 3>& extent,
+                         const std::array<Boundary, 3>& boundaries) {
+  const std::size_t cells =
+      static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1]) * static_cast<std::size_t>(extent[2]);
+  VectorField w{std::vector<double>(cells), std::vector<double>(cells), std::vector<double>(cells)};
+  const int nx = extent[0], ny = extent[1], nz = extent[2];
 #pragma omp parallel for collapse(2) schedule(static)
-  for (int z = 0; z < nz_; ++z) {
-    for (int y = 0; y < ny_; ++y) {
-      for (int x = 0; x < nx_; ++x) {
-        const std::size_t n = linear_index(x, y, z);
-        w.x[n] = derivative(*this, u.z, 1, x, y, z) - derivative(*this, u.y, 2, x, y, z);
-        w.y[n] = derivative(*this, u.x, 2, x, y, z) - derivative(*this, u.z, 0, x, y, z);
-        w.z[n] = derivative(*this, u.y, 0, x, y, z) - derivative(*this, u.x, 1, x, y, z);
+  for (int z = 0; z < nz; ++z) {
+    for (int y = 0; y < ny; ++y) {
+      for (int x = 0; x < nx; ++x) {
+        const std::size_t n =
+            static_cast<std::size_t>(x) +
+            static_cast<std::size_t>(nx) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * z);
+        const auto d = [&](const std::vector<double>& f, int axis) {
+          return derivative(f, extent, boundaries, axis, x, y, z);
+        };
+        w.x[n] = d(u.z, 1) - d(u.y, 2);
+        w.y[n] = d(u.x, 2) - d(u.z, 0);
+        w.z[n] = d(u.y, 0) - d(u.x, 1);
       }
     }
   }

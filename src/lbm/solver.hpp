@@ -270,6 +270,12 @@ class Solver {
 /// The discrete velocities of a lattice in the solvers' direction order (lbm/lattice.hpp).
 std::span<const std::array<int, 3>> velocity_set(LatticeKind kind);
 
+/// curl u by second-order central differences on a lattice of this extent (linear index x + nx (y +
+/// ny z)): periodic axes wrap, other faces take one-sided second-order differences. What
+/// Solver::vorticity_field computes, for a field gathered from the blocks of a split lattice.
+VectorField vorticity_of(const VectorField& u, const std::array<int, 3>& extent,
+                         const std::array<Boundary, 3>& boundaries);
+
 /// Builds the solver for `config` (validated first; throws settle::InputError).
 std::unique_ptr<Solver> make_solver(const SolverConfig& config);
 

@@ -17,6 +17,7 @@ class SingleProcess final : public Communicator {
     if (!ranks.empty()) throw std::logic_error("exchange: a run of one process has no other rank");
   }
   std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) override { return {mine}; }
+  std::vector<std::vector<double>> gather_to_root(const std::vector<double>& mine) override { return {mine}; }
   [[noreturn]] void abort(int status) override { std::exit(status); }
 };
 
@@ -72,6 +73,25 @@ class MpiWorld final : public Communicator {
                          MPI_COMM_WORLD),
           "MPI_Allgatherv");
     std::vector<std::vector<double>> by_rank(counts.size());
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      by_rank[r].assign(all.begin() + starts[r], all.begin() + starts[r] + counts[r]);
+    }
+    return by_rank;
+  }
+
+  std::vector<std::vector<double>> gather_to_root(const std::vector<double>& mine) override {
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(size_)), starts(static_cast<std::size_t>(size_));
+    check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+    int total = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) starts[r] = total, total += counts[r];
+    std::vector<double> all(rank_ == 0 ? static_cast<std::size_t>(total) : 0);
+    check(MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), starts.data(), MPI_DOUBLE, 0,
+                      MPI_COMM_WORLD),
+          "MPI_Gatherv");
+    std::vector<std::vector<double>> by_rank;
+    if (rank_ != 0) return by_rank;
+    by_rank.resize(counts.size());
     for (std::size_t r = 0; r < counts.size(); ++r) {
       by_rank[r].assign(all.begin() + starts[r], all.begin() + starts[r] + counts[r]);
     }

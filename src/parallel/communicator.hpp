@@ -18,6 +18,8 @@ class Communicator {
                         std::vector<std::vector<double>>& receive) = 0;
   /// Every rank's `mine`, in rank order, on every rank (the lengths may differ between ranks).
   virtual std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) = 0;
+  /// Every rank's `mine` in rank order on rank 0; nothing on the others (a field written by rank 0).
+  virtual std::vector<std::vector<double>> gather_to_root(const std::vector<double>& mine) = 0;
   /// Ends every process of the run with `status` (after a failure on this one: the others may be
   /// waiting for its messages).
   [[noreturn]] virtual void abort(int status) = 0;

@@ -1,6 +1,6 @@
 // `settle run` under mpirun (docs/parallel.md): the CI-sized free-settling sphere with the
 // momentum exchange and the window following it, on 1, 2 and 4 processes (oversubscribed: CI has
-// 2 cores), writes the same time series as the plain run, byte for byte. Exact equality is the
+// 2 cores), writes the same time series and VTK files as the plain run, byte for byte. Exact equality is the
 // right check: a split run adds every sum in the one-process order (tests/coupling/
 // test_split_simulation.cpp), so a difference is a lost message or a reordered sum. A malformed
 // case under mpirun is reported once, and every process exits with the input-error status.
@@ -45,6 +45,7 @@ coupling = "momentum_exchange"
 [run]
 end_time = 0.03
 output_interval = 0
+vtk_interval = 0.01
 )toml";
 
 // mpirun as CTest found it; leak detection off under the sanitizers (Open MPI's start-up
@@ -76,11 +77,19 @@ TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
                                 " --threads 1 --quiet > " + scratch("mpi_out").string() + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << read_text(scratch("mpi_out"));
     EXPECT_EQ(read_text(dir / "timeseries.csv"), series);
+    // The fields, gathered on rank 0, written as the one-process run writes them.
+    int vtk_files = 0;
+    for (const auto& entry : fs::directory_iterator(plain / "vtk")) {
+      EXPECT_EQ(read_text(dir / "vtk" / entry.path().filename()), read_text(entry.path())) << entry.path().filename();
+      ++vtk_files;
+    }
+    EXPECT_EQ(vtk_files, 10);  // fluid and surface at t = 0, 0.01, 0.02, 0.03 and their two .pvd
     EXPECT_TRUE(fs::exists(dir / "summary.json"));
     fs::remove_all(dir);
   }
   fs::remove_all(plain);
   fs::remove(case_path);
+  fs::remove(scratch("mpi_out"));
 }
 
 TEST(MpiRun, AMalformedCaseIsReportedOnceAndEveryProcessFails) {

@@ -155,6 +155,12 @@ TEST(MpiHalo, SumsInRankOrderAndGathersEveryRanksPart) {
   ASSERT_EQ(parts.size(), static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k)
     EXPECT_EQ(parts[static_cast<std::size_t>(k)], std::vector<double>(static_cast<std::size_t>(k), k));
+  // The same to rank 0 alone.
+  const std::vector<std::vector<double>> at_root =
+      world.gather_to_root(std::vector<double>(static_cast<std::size_t>(r), r));
+  EXPECT_EQ(at_root.size(), r == 0 ? static_cast<std::size_t>(n) : 0u);
+  for (std::size_t k = 0; k < at_root.size(); ++k)
+    EXPECT_EQ(at_root[k], std::vector<double>(k, static_cast<double>(k)));
 }
 
 }  // namespace test_mpi_halo

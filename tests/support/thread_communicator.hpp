@@ -69,6 +69,11 @@ class ThreadRanks {
       }
       return all;
     }
+    std::vector<std::vector<double>> gather_to_root(const std::vector<double>& mine) override {
+      std::vector<std::vector<double>> all = gather_all(mine);
+      if (rank_ != 0) all.clear();
+      return all;
+    }
     [[noreturn]] void abort(int) override { std::abort(); }
 
    private:
