@@ -175,14 +175,13 @@ void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose
     if (const auto w = view.wrap(c)) whole_solids_.push_back(view.index(*w));
   std::sort(whole_solids_.begin(), whole_solids_.end());
   link_index_.clear();
-  whole_crossing_.clear();
   if (!view.split()) {
     walls_ = std::move(whole);
     return;
   }
-  whole_crossing_ = whole.crossing;
   walls_ = BodyWalls{};
   walls_.obstacle.rule = whole.obstacle.rule;
+  walls_.crossing = std::move(whole.crossing);
   for (const auto& c : whole.obstacle.solid_cells) {
     const auto w = view.wrap(c);
     if (!w) continue;
@@ -194,7 +193,6 @@ void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose
     lbm::WallLink link = whole.obstacle.links[k];
     link.cell = view.to_block(*w);
     walls_.obstacle.links.push_back(link);
-    walls_.crossing.push_back(whole.crossing[k]);
     link_index_.push_back(k);
   }
 }
@@ -344,7 +342,7 @@ LatticeWrench MomentumExchangeCoupling::link_sum(const lbm::Solver& fluid) const
   }
   for (std::size_t k = 0; k < whole_link_count_; ++k) {
     links.force += ordered[k];
-    links.torque += (whole_crossing_[k] - pose_.centre).cross(ordered[k]);
+    links.torque += (walls_.crossing[k] - pose_.centre).cross(ordered[k]);
   }
   return links;
 }

@@ -102,11 +102,12 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   CouplingOptions options_;
   parallel::Communicator& communicator_;
   LatticePose pose_;
-  /// This block's walls (all of them when unsplit), each link's index among the whole lattice's
-  /// links, the whole lattice's solid cells (wrapped indices, ascending) and link count.
+  /// This block's solid cells and links (all of them when unsplit) with the crossing points of
+  /// every link of the whole lattice (the sum adds them all); each of this block's links' index
+  /// among the whole lattice's links (empty when unsplit: the same); the whole lattice's solid
+  /// cells (wrapped indices, ascending) and link count.
   BodyWalls walls_;
   std::vector<std::size_t> link_index_;
-  std::vector<Eigen::Vector3d> whole_crossing_;  ///< of every link of the whole lattice, when split
   std::vector<std::size_t> whole_solids_;
   std::size_t whole_link_count_ = 0;
   LatticeWrench previous_links_;

@@ -33,6 +33,13 @@ inline std::filesystem::path scratch(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("settle_cli_" + std::to_string(::getpid()) + "_" + name);
 }
 
+/// Writes a case text to a scratch file `<name>.toml` and returns its path.
+inline std::filesystem::path write_scratch_case(const std::string& name, const std::string& text) {
+  const std::filesystem::path path = scratch(name + ".toml");
+  std::ofstream(path) << text;
+  return path;
+}
+
 /// Runs `settle <subcommand> <arguments>` through the shell and captures stdout and stderr.
 inline CliResult run_settle(const std::string& subcommand, const std::string& arguments) {
   const char* binary = std::getenv("SETTLE_BINARY");

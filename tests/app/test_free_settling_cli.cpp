@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 
 using settle::test::read_text;
 using settle::test::scratch;
+using settle::test::write_scratch_case;
 
 // A glass-like sphere (rho_p/rho_f = 2) of 1 mm in a liquid four times as viscous as water:
 // Re ~ 16, Ga ~ 25, steady and axisymmetric (a sphere's wake stays axisymmetric below Re ~ 210).
@@ -47,12 +48,6 @@ stop_at_terminal = true
 output_interval = 0.002
 )toml";
 
-fs::path write_case(const std::string& name, const std::string& text) {
-  const fs::path path = scratch(name + ".toml");
-  std::ofstream(path) << text;
-  return path;
-}
-
 struct Row {
   double t, ux, uy, uz, wx, wy, wz;
 };
@@ -73,7 +68,7 @@ std::vector<Row> read_rows(const fs::path& csv_path) {
 
 TEST(FreeSettling, SphereReachesTheStandardDragCurveAndStaysSymmetric) {
   const fs::path dir = scratch("free_sphere");
-  const fs::path case_path = write_case("free_sphere", kSphereCase);
+  const fs::path case_path = write_scratch_case("free_sphere", kSphereCase);
   const auto r = settle::test::run_settle("run", case_path.string() + " -o " + dir.string() + " --threads 2 --quiet");
   fs::remove(case_path);
   ASSERT_EQ(r.status, 0) << r.err;

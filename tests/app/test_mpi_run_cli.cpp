@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 using settle::test::read_text;
 using settle::test::run_settle;
 using settle::test::scratch;
+using settle::test::write_scratch_case;
 
 // tests/app/test_free_settling_cli.cpp's sphere (Re ~ 16, 8 d wide window with 5 d ahead), at 6
 // cells per diameter, with the momentum exchange, started at about its terminal speed so that the
@@ -55,14 +56,8 @@ std::string launcher(int ranks) {
          " --oversubscribe --allow-run-as-root -n " + std::to_string(ranks) + " ";
 }
 
-fs::path write_case(const std::string& name, const std::string& text) {
-  const fs::path path = scratch(name + ".toml");
-  std::ofstream(path) << text;
-  return path;
-}
-
 TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
-  const fs::path case_path = write_case("mpi_sphere", kSphereCase);
+  const fs::path case_path = write_scratch_case("mpi_sphere", kSphereCase);
   const fs::path plain = scratch("mpi_plain");
   const auto reference = run_settle("run", case_path.string() + " -o " + plain.string() + " --threads 1 --quiet");
   ASSERT_EQ(reference.status, 0) << reference.err;
@@ -95,7 +90,7 @@ TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
 TEST(MpiRun, AMalformedCaseIsReportedOnceAndEveryProcessFails) {
   std::string text = kSphereCase;
   text.replace(text.find("cells_per_diameter = 6"), 22, "cells_per_diameter = -6");
-  const fs::path case_path = write_case("mpi_bad", text);
+  const fs::path case_path = write_scratch_case("mpi_bad", text);
   const char* binary = std::getenv("SETTLE_BINARY");
   ASSERT_NE(binary, nullptr);
   const fs::path out = scratch("mpi_bad_out");

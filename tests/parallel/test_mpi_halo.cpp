@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,16 +49,27 @@ lbm::SolverConfig block_config(const lbm::SolverConfig& whole_config, const std:
   return cfg;
 }
 
+// This rank's block of the split and the whole lattice, both started from the same flow.
+struct BlockAndWhole {
+  std::array<int, 3> offset;
+  std::unique_ptr<lbm::Solver> block, whole;
+};
+
+BlockAndWhole start(const lbm::SolverConfig& whole_config, const std::array<int, 3>& blocks) {
+  const int rank = parallel::world().rank();
+  const lbm::SolverConfig cfg = block_config(whole_config, blocks, rank);
+  const std::array<int, 3> o = cfg.split->offset(rank);
+  BlockAndWhole s{o, lbm::make_solver(cfg), lbm::make_solver(whole_config)};
+  s.block->initialise([o](int x, int y, int z) { return halo::initial_state(x + o[0], y + o[1], z + o[2]); });
+  s.whole->initialise(halo::initial_state);
+  return s;
+}
+
 // Differing populations of this rank's block after each of the last two of `steps` steps (an odd
 // and an even count: both parities' copies are checked).
 std::array<int, 2> run_block(const lbm::SolverConfig& whole_config, const std::array<int, 3>& blocks, int steps) {
   parallel::Communicator& world = parallel::world();
-  const lbm::SolverConfig cfg = block_config(whole_config, blocks, world.rank());
-  const std::array<int, 3> o = cfg.split->offset(world.rank());
-  auto block = lbm::make_solver(cfg);
-  block->initialise([o](int x, int y, int z) { return halo::initial_state(x + o[0], y + o[1], z + o[2]); });
-  auto whole = lbm::make_solver(whole_config);
-  whole->initialise(halo::initial_state);
+  auto [o, block, whole] = start(whole_config, blocks);
   lbm::HaloMessages messages;
   const std::vector<int> neighbours = block->halo_ranks();
   std::array<int, 2> differing{-1, -1};
@@ -94,15 +106,10 @@ TEST(MpiHalo, EverySplitOverTheseRanksStepsBitForBitAsTheUnsplitLattice) {
 // differing populations at the end and the largest relative difference of the shifts' mass.
 std::pair<int, double> run_block_with_body(const lbm::SolverConfig& whole_config, const std::array<int, 3>& blocks) {
   parallel::Communicator& world = parallel::world();
-  const lbm::SolverConfig cfg = block_config(whole_config, blocks, world.rank());
-  const std::array<int, 3> o = cfg.split->offset(world.rank());
-  auto block = lbm::make_solver(cfg);
-  block->initialise([o](int x, int y, int z) { return halo::initial_state(x + o[0], y + o[1], z + o[2]); });
-  auto whole = lbm::make_solver(whole_config);
-  whole->initialise(halo::initial_state);
+  auto [o, block, whole] = start(whole_config, blocks);
   const halo::Sphere sphere{Eigen::Vector3d(3.1, 2.85, 5.2), 1.8};
   const lbm::Obstacle obstacle = halo::whole_obstacle(sphere, whole_config, lbm::velocity_set(whole_config.lattice));
-  const lbm::Obstacle part = halo::block_obstacle(obstacle, *cfg.split, world.rank());
+  const lbm::Obstacle part = halo::block_obstacle(obstacle, *block->config().split, world.rank());
   whole->set_obstacle(obstacle);
   block->set_obstacle(part);
   struct Shift {
