@@ -417,9 +417,6 @@ void run_case(const RunOptions& options) {
   // rank 0 alone speaks and writes.
   parallel::Communicator& world = parallel::world();
   const bool split = world.size() > 1, lead = world.rank() == 0;
-  if (split && restart) {
-    throw InputError("--restart: continuing a run across processes is not supported yet; continue it in one process");
-  }
   Console console(!lead             ? Verbosity::silent
                   : options.quiet   ? Verbosity::quiet
                   : options.verbose ? Verbosity::verbose
@@ -516,14 +513,6 @@ void run_case(const RunOptions& options) {
   };
   const InterruptSignals signals;
   callbacks.interrupted = [&signals] { return signals.raised(); };
-  if (split) {
-    // Each rank would see a signal after a different step and stop alone; mpirun ends them all.
-    if (callbacks.checkpoint_interval_si > 0.0 || callbacks.checkpoint_wall_interval_s > 0.0) {
-      console.warning("run.checkpoint_interval: a run across processes writes no checkpoints yet (docs/parallel.md)");
-    }
-    callbacks.checkpoint_due = nullptr;
-    callbacks.interrupted = nullptr;
-  }
   if (restart)
     console.info(fmt::format("{}: continuing from {} at t = {:.6g} s (step {})", name, restart->file().string(),
                              restart->time_si(), restart->loop().step));

@@ -13,8 +13,9 @@
 
 namespace {
 
-// Under mpirun every rank meets the same bad case or the same failing health check (both are decided
-// on data every rank holds alike), so rank 0 alone reports them and each rank exits with the code.
+// Under mpirun every rank meets the same bad case, the same failing health check or the same
+// interruption (all decided on data every rank holds alike, or agreed: coupling/runner.cpp), so rank
+// 0 alone reports them and each rank exits with the code.
 bool reports_errors() { return !settle::parallel::launched_by_mpi() || settle::parallel::world().rank() == 0; }
 
 // A failure of one rank alone (an internal error, a file rank 0 cannot write) would leave the others
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
     if (reports_errors()) fmt::print(stderr, "settle: run stopped: {}\n", e.what());
     return 3;
   } catch (const settle::RunInterrupted& e) {
-    fmt::print(stderr, "settle: {}\n", e.what());
+    if (reports_errors()) fmt::print(stderr, "settle: {}\n", e.what());
     return e.exit_status();
   } catch (const std::exception& e) {
     fmt::print(stderr, "settle: internal error: {}\n", e.what());

@@ -174,9 +174,11 @@ void check_restart_flags(const std::string& restart_dir, const std::string& case
 }
 
 void remove_earlier_checkpoint(const fs::path& run_dir) {
-  for (const fs::path& file : {run_dir / kCheckpointFileName, run_dir / (std::string(kCheckpointFileName) + ".tmp")}) {
+  const fs::path checkpoint = run_dir / kCheckpointFileName;
+  for (const fs::path& file : {checkpoint, run_dir / (std::string(kCheckpointFileName) + ".tmp"),
+                               coupling::checkpoint_parts_directory(checkpoint)}) {
     std::error_code error;
-    fs::remove(file, error);
+    fs::remove_all(file, error);
     if (error)
       throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", file.string(), error.message()));
   }
@@ -192,13 +194,17 @@ RunCheckpoints::RunCheckpoints(fs::path run_dir, std::string resolved_case, std:
 
 void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunStart& loop,
                            const VtkProgress& vtk) const {
-  const fs::path timeseries = timeseries_path(run_dir_);
-  sync_to_disk(timeseries);
-  std::error_code error;
-  const std::uintmax_t timeseries_bytes = fs::file_size(timeseries, error);
-  if (error)
-    throw CheckpointError(
-        fmt::format("{}: cannot measure it for the checkpoint: {}", timeseries.string(), error.message()));
+  // Rank 0 writes the time series and the part of the checkpoint that records its length.
+  std::uintmax_t timeseries_bytes = 0;
+  if (sim.communicator().rank() == 0) {
+    const fs::path timeseries = timeseries_path(run_dir_);
+    sync_to_disk(timeseries);
+    std::error_code error;
+    timeseries_bytes = fs::file_size(timeseries, error);
+    if (error)
+      throw CheckpointError(
+          fmt::format("{}: cannot measure it for the checkpoint: {}", timeseries.string(), error.message()));
+  }
   coupling::CheckpointCallerData data;
   data.resolved_case = resolved_case_;
   data.values[kOutputNextIndex] = static_cast<double>(loop.next_output_index);

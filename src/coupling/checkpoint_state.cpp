@@ -1,5 +1,6 @@
 #include "coupling/checkpoint_state.hpp"
 
+#include <exception>
 #include <optional>
 #include <stdexcept>
 #include <string_view>
@@ -24,6 +25,9 @@ constexpr const char* kPopulationsSection = "fluid/populations";
 // from those written before the section existed: no solid cells).
 constexpr const char* kSolidCellsSection = "fluid/solid_cells";
 constexpr const char* kCallerValuesSection = "caller/values";
+// A run across processes: the manifest's record (processes, step of the parts) and each part's.
+constexpr const char* kSplitSection = "parallel/split";
+constexpr const char* kPartSection = "parallel/part";
 constexpr std::string_view kCallerBlobPrefix = "caller/blob/";
 
 /// One quantity the case fixes: its value (compared exactly) and how to show it to the user.
@@ -358,23 +362,125 @@ struct CheckpointAccess {
   }
 };
 
-void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller, const std::filesystem::path& file) {
-  const lbm::FluidState fluid = sim.fluid().export_state();
-  CheckpointWriter writer;
-  {
-    RecordWriter version;
-    version.string(version_string);
-    writer.add_copy(kVersionSection, version.take());
-  }
-  writer.add_view(kCaseSection, std::as_bytes(std::span(caller.resolved_case)));
+namespace {
+
+// Which of the checkpoint's sections hold what (write_checkpoint's comment in the header).
+void add_identity_sections(CheckpointWriter& writer, const Simulation& sim) {
+  RecordWriter version;
+  version.string(version_string);
+  writer.add_copy(kVersionSection, version.take());
   writer.add_copy(kFingerprintSection, encode_fingerprint(fingerprint_of(sim)));
-  writer.add_copy(kSimulationSection, CheckpointAccess::encode(sim));
-  writer.add_copy(kBodySection, encode_body(sim.body().state()));
+}
+
+void add_fluid_sections(CheckpointWriter& writer, const lbm::FluidState& fluid) {
   writer.add_copy(kFluidSection, encode_fluid(fluid));
   writer.add_view(kPopulationsSection, fluid.populations);
   if (!fluid.solid_cells.empty()) writer.add_copy(kSolidCellsSection, encode_solid_cells(fluid.solid_cells));
+}
+
+/// Everything but the fluid: identical on every rank of a split run, so rank 0 alone writes it.
+void add_state_sections(CheckpointWriter& writer, const Simulation& sim, const CheckpointCallerData& caller) {
+  writer.add_view(kCaseSection, std::as_bytes(std::span(caller.resolved_case)));
+  writer.add_copy(kSimulationSection, CheckpointAccess::encode(sim));
+  writer.add_copy(kBodySection, encode_body(sim.body().state()));
   writer.add_copy(kCallerValuesSection, encode_values(caller.values));
   for (const auto& [name, blob] : caller.blobs) writer.add_view(std::string(kCallerBlobPrefix) + name, blob);
+}
+
+/// The split record: in the manifest the processes and the step of its parts; in a part also its rank.
+std::vector<std::byte> encode_split(const SplitRecord& split) {
+  RecordWriter out;
+  out.u32(static_cast<std::uint32_t>(split.ranks));
+  out.u32(static_cast<std::uint32_t>(split.rank));
+  out.i64(split.step);
+  return out.take();
+}
+
+SplitRecord decode_split(std::span<const std::byte> data, const char* section) {
+  RecordReader in(data, section);
+  SplitRecord split;
+  split.ranks = static_cast<int>(in.u32());
+  split.rank = static_cast<int>(in.u32());
+  split.step = in.i64();
+  in.expect_end();
+  if (split.ranks < 2 || split.rank < 0 || split.rank >= split.ranks || split.step < 0)
+    throw CheckpointError(fmt::format("checkpoint section '{}': rank {} of {} processes at step {}", section,
+                                      split.rank, split.ranks, split.step));
+  return split;
+}
+
+/// Runs `action` on every rank and fails on every rank if it failed on any: a rank that went on
+/// alone would wait for the others' messages forever. The failing rank throws its own error; the
+/// others name the first rank that failed and `what` it was doing.
+template <class Action>
+void on_every_rank(parallel::Communicator& ranks, const std::string& what, Action action) {
+  std::exception_ptr failure;
+  try {
+    action();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  const std::vector<std::vector<double>> failed = ranks.gather_all({failure ? 1.0 : 0.0});
+  if (failure) std::rethrow_exception(failure);
+  for (std::size_t r = 0; r < failed.size(); ++r)
+    if (failed[r].at(0) > 0.0) throw CheckpointError(fmt::format("rank {} failed: {}", r, what));
+}
+
+std::filesystem::path part_file(const std::filesystem::path& manifest, std::int64_t step, int rank) {
+  return checkpoint_parts_directory(manifest) / fmt::format("step-{:012}", step) / fmt::format("rank-{:05}.bin", rank);
+}
+
+/// The parts of other steps than `step` (earlier checkpoints, or a later one whose manifest was
+/// never written); best effort: what stays behind is removed after the next checkpoint.
+void remove_parts_except(const std::filesystem::path& manifest, std::int64_t step) {
+  std::error_code error;
+  const std::filesystem::path keep = part_file(manifest, step, 0).parent_path();
+  for (const auto& entry : std::filesystem::directory_iterator(checkpoint_parts_directory(manifest), error))
+    if (entry.path() != keep) std::filesystem::remove_all(entry.path(), error);
+}
+
+void write_split_checkpoint(const Simulation& sim, const CheckpointCallerData& caller,
+                            const std::filesystem::path& file) {
+  parallel::Communicator& ranks = sim.communicator();
+  const SplitRecord split{ranks.size(), ranks.rank(), sim.steps()};
+  const std::filesystem::path part = part_file(file, split.step, split.rank);
+  on_every_rank(ranks, fmt::format("writing its part of the checkpoint under {}", part.parent_path().string()), [&] {
+    std::error_code error;
+    std::filesystem::create_directories(part.parent_path(), error);
+    if (error)
+      throw CheckpointError(fmt::format("{}: cannot create it: {}", part.parent_path().string(), error.message()));
+    const lbm::FluidState fluid = sim.fluid().export_state();
+    CheckpointWriter writer;
+    add_identity_sections(writer, sim);
+    writer.add_copy(kPartSection, encode_split(split));
+    add_fluid_sections(writer, fluid);
+    writer.write(part);
+  });
+  // Every part is complete: the manifest may now point to them.
+  on_every_rank(ranks, "writing the checkpoint's manifest " + file.string(), [&] {
+    if (split.rank != 0) return;
+    CheckpointWriter writer;
+    add_identity_sections(writer, sim);
+    writer.add_copy(kSplitSection, encode_split({split.ranks, 0, split.step}));
+    add_state_sections(writer, sim, caller);
+    writer.write(file);
+  });
+  if (split.rank == 0) remove_parts_except(file, split.step);
+}
+
+}  // namespace
+
+std::filesystem::path checkpoint_parts_directory(const std::filesystem::path& file) {
+  return file.parent_path() / (file.filename().string() + ".parts");
+}
+
+void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller, const std::filesystem::path& file) {
+  if (sim.communicator().size() > 1) return write_split_checkpoint(sim, caller, file);
+  const lbm::FluidState fluid = sim.fluid().export_state();
+  CheckpointWriter writer;
+  add_identity_sections(writer, sim);
+  add_state_sections(writer, sim, caller);
+  add_fluid_sections(writer, fluid);
   writer.write(file);
 }
 
@@ -391,31 +497,79 @@ SimulationCheckpoint::SimulationCheckpoint(const std::filesystem::path& file) : 
     }
   decode_fingerprint(file_.section(kFingerprintSection));
   decode_body(file_.section(kBodySection));
-  decode_fluid(file_.section(kFluidSection));
+  if (file_.has(kSplitSection))
+    split_ = decode_split(file_.section(kSplitSection), kSplitSection);
+  else
+    decode_fluid(file_.section(kFluidSection));
   const CheckpointAccess::Saved saved = CheckpointAccess::decode(file_.section(kSimulationSection));
   steps_ = saved.steps;
   time_si_ = saved.time_si;
+  if (file_.has(kSplitSection) && split_.step != steps_)
+    throw CheckpointError(
+        fmt::format("checkpoint section '{}': parts of step {}, state of step {}", kSplitSection, split_.step, steps_));
 }
 
-void SimulationCheckpoint::restore(Simulation& sim) const {
-  check_fingerprint(decode_fingerprint(file_.section(kFingerprintSection)), fingerprint_of(sim), file_.path());
-  const CheckpointAccess::Saved saved = CheckpointAccess::decode(file_.section(kSimulationSection));
-  const body::RigidBodyState body = decode_body(file_.section(kBodySection));
-  lbm::FluidState fluid = decode_fluid(file_.section(kFluidSection));
-  fluid.populations = file_.section(kPopulationsSection);
-  if (file_.has(kSolidCellsSection)) fluid.solid_cells = decode_solid_cells(file_.section(kSolidCellsSection));
+namespace {
+
+/// A continued run needs the split the checkpoint was written with: each part holds one block.
+void check_process_count(const std::filesystem::path& file, int written_by, int running) {
+  if (written_by == running) return;
+  const std::string dir = file.parent_path().string();
+  const std::string how = written_by == 1
+                              ? fmt::format("continue it without mpirun: settle run --restart {}", dir)
+                              : fmt::format("continue it with mpirun -n {} settle run --restart {}", written_by, dir);
+  throw CheckpointError(fmt::format("{}: the checkpoint was written by {} process{}, this run has {}; {}",
+                                    file.string(), written_by, written_by == 1 ? "" : "es", running, how));
+}
+
+/// The fluid sections of `file` (the whole checkpoint, or this rank's part) into the simulation.
+void restore_fluid(const CheckpointFile& file, Simulation& sim, const std::string& written_by) {
+  lbm::FluidState fluid = decode_fluid(file.section(kFluidSection));
+  fluid.populations = file.section(kPopulationsSection);
+  if (file.has(kSolidCellsSection)) fluid.solid_cells = decode_solid_cells(file.section(kSolidCellsSection));
   if (!(fluid.layout == sim.fluid().export_state().layout))
     throw CheckpointError(
         fmt::format("{}: the fluid's memory layout differs from this build's (written by "
                     "settle {}); restart with the settle that wrote it",
-                    file_.path().string(), written_by_));
-  // The solver checks the whole state before it writes anything, so a refusal leaves the
-  // simulation unchanged; nothing after it can fail (the body state was checked finite above).
+                    file.path().string(), written_by));
+  // The solver checks the whole state before it writes anything, so a refusal leaves the fluid
+  // unchanged.
   try {
     sim.fluid().import_state(fluid);
   } catch (const std::invalid_argument& e) {
-    throw CheckpointError(fmt::format("{}: {}", file_.path().string(), e.what()));
+    throw CheckpointError(fmt::format("{}: {}", file.path().string(), e.what()));
   }
+}
+
+}  // namespace
+
+void SimulationCheckpoint::restore(Simulation& sim) const {
+  parallel::Communicator& ranks = sim.communicator();
+  check_process_count(file_.path(), split_.ranks, ranks.size());
+  const Fingerprint current = fingerprint_of(sim);
+  check_fingerprint(decode_fingerprint(file_.section(kFingerprintSection)), current, file_.path());
+  const CheckpointAccess::Saved saved = CheckpointAccess::decode(file_.section(kSimulationSection));
+  const body::RigidBodyState body = decode_body(file_.section(kBodySection));
+  if (ranks.size() == 1) {
+    restore_fluid(file_, sim, written_by_);
+  } else {
+    // Across processes a refusal may come after other ranks have restored their blocks: the run
+    // then ends on every rank, so no simulation continues half restored.
+    const std::filesystem::path part = part_file(file_.path(), split_.step, ranks.rank());
+    on_every_rank(ranks, "reading its part of the checkpoint under " + part.parent_path().string(), [&] {
+      const CheckpointFile piece(part);
+      const SplitRecord record = decode_split(piece.section(kPartSection), kPartSection);
+      if (record.ranks != split_.ranks || record.rank != ranks.rank() || record.step != split_.step)
+        throw CheckpointError(
+            fmt::format("{}: holds rank {} of {} at step {}, where the manifest {} needs rank {} of {} "
+                        "at step {}",
+                        part.string(), record.rank, record.ranks, record.step, file_.path().string(), ranks.rank(),
+                        split_.ranks, split_.step));
+      check_fingerprint(decode_fingerprint(piece.section(kFingerprintSection)), current, part);
+      restore_fluid(piece, sim, written_by_);
+    });
+  }
+  // Nothing after this can fail (the body state was checked finite when it was decoded).
   CheckpointAccess::apply(sim, saved, body);
 }
 

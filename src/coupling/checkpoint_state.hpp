@@ -50,8 +50,26 @@ struct CheckpointCallerData {
 /// Writes the simulation's state and the caller's data to `file` atomically (common/checkpoint_file.hpp:
 /// the previous file stays whole until the new one is complete). Throws CheckpointError on an
 /// I/O failure.
+///
+/// Across processes (simulation.communicator() of more than one rank; every rank calls it) the
+/// checkpoint comes in parts (docs/checkpoints.md, "Across processes"): each rank writes its block
+/// of the fluid to checkpoint_parts_directory(file)/step-S/rank-R.bin; once every part is whole,
+/// rank 0 writes `file` as the manifest (the rest of the state, the number of processes and the
+/// step S of its parts) and removes the parts of other steps. A crash at any moment leaves a
+/// manifest whose parts are complete. A failure on any rank is a CheckpointError on every rank.
 void write_checkpoint(const Simulation& simulation, const CheckpointCallerData& caller,
                       const std::filesystem::path& file);
+
+/// Where the parts of a checkpoint written across processes lie: FILE.parts beside it.
+std::filesystem::path checkpoint_parts_directory(const std::filesystem::path& file);
+
+/// A checkpoint's split: written by `ranks` processes (1: a whole checkpoint), the part of `rank`,
+/// the step its parts were written at.
+struct SplitRecord {
+  int ranks = 1;
+  int rank = 0;
+  std::int64_t step = 0;
+};
 
 /// A checkpoint opened and verified (every CRC-32 checked, every record decoded), ready to restore.
 class SimulationCheckpoint {
@@ -66,10 +84,13 @@ class SimulationCheckpoint {
   double time_si() const { return time_si_; }
   /// settle version that wrote the file (informational).
   const std::string& written_by() const { return written_by_; }
+  /// The processes of the run that wrote it (1 unless it is the manifest of parts).
+  int processes() const { return split_.ranks; }
 
   /// Puts the saved state into `simulation`, which must have been built from the same case (the
   /// fingerprint is compared first: CheckpointError names the first quantity that differs, and
-  /// the simulation is left unchanged). Can be called on several simulations.
+  /// the simulation is left unchanged) and split over as many processes as the run that wrote it
+  /// (every rank calls it; each reads its own part). Can be called on several simulations.
   void restore(Simulation& simulation) const;
 
  private:
@@ -78,6 +99,7 @@ class SimulationCheckpoint {
   std::int64_t steps_ = 0;
   double time_si_ = 0.0;
   std::string written_by_;
+  SplitRecord split_;
 };
 
 }  // namespace settle::coupling

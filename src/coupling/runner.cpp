@@ -1,6 +1,7 @@
 #include "coupling/runner.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -11,6 +12,7 @@
 #include "common/error.hpp"
 #include "coupling/health.hpp"
 #include "coupling/time_control.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::coupling {
 namespace {
@@ -60,6 +62,19 @@ Sample take_sample(const Simulation& sim, double t_si) {
   s.reynolds = s.relative_flow_si.norm() * sim.plan().equivalent_diameter_si / sim.units().kinematic_viscosity_si();
   return s;
 }
+
+namespace {
+
+// A signal, or the wall clock, reaches the ranks of a split run after different steps: a rank that
+// stopped or checkpointed alone would leave the others waiting. They act when any rank saw the
+// event (`asked`: the events can happen at all, the same on every rank).
+std::array<bool, 2> decided_together(parallel::Communicator& ranks, std::array<bool, 2> seen, bool asked) {
+  if (ranks.size() == 1 || !asked) return seen;
+  const std::vector<double> any = parallel::sum_in_rank_order(ranks, {seen[0] ? 1.0 : 0.0, seen[1] ? 1.0 : 0.0});
+  return {any[0] > 0.0, any[1] > 0.0};
+}
+
+}  // namespace
 
 RunResult run(Simulation& sim, const RunCallbacks& callbacks, double progress_interval_wall_s) {
   return run(sim, callbacks, RunStart{}, progress_interval_wall_s);
@@ -125,10 +140,15 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     sim.step();
     time.advance();
     sample_if_due();
-    if (stop_reason.empty() && callbacks.interrupted && callbacks.interrupted()) stop_reason = "interrupted";
+    const std::array<bool, 2> wall_events = decided_together(
+        sim.communicator(),
+        {stop_reason.empty() && callbacks.interrupted && callbacks.interrupted(),
+         callbacks.checkpoint_due && wall_checkpoint_due()},
+        callbacks.interrupted || (callbacks.checkpoint_due && callbacks.checkpoint_wall_interval_s > 0.0));
+    if (wall_events[0]) stop_reason = "interrupted";
     // Both schedules are asked every step (OutputSchedule::due marks its time done).
     const bool simulated_due = checkpoints.due(time.time_si(), time.dt_si());
-    if (callbacks.checkpoint_due && (simulated_due || wall_checkpoint_due() || stop_reason == "interrupted"))
+    if (callbacks.checkpoint_due && (simulated_due || wall_events[1] || stop_reason == "interrupted"))
       hand_over_checkpoint();
     if (!stop_reason.empty()) {
       result.stop_reason = stop_reason;

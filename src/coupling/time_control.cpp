@@ -7,7 +7,14 @@ namespace settle::coupling {
 
 bool OutputSchedule::due(double t_si, double dt_si) {
   if (interval_si_ < 0.0) return false;
-  if (interval_si_ == 0.0) return true;
+  if (interval_si_ == 0.0) {
+    // Every step: next_index counts steps, so that a continued run does not repeat the sample of
+    // the step it continues from.
+    const auto step = static_cast<std::int64_t>(std::llround(t_si / dt_si));
+    if (step < next_index_) return false;
+    next_index_ = step + 1;
+    return true;
+  }
   // Due at the first step whose time reaches the next multiple of the interval (half a step
   // of slack so that round-off in t = n dt does not skip a row).
   const double next_time = static_cast<double>(next_index_) * interval_si_;

@@ -18,8 +18,9 @@ class OutputSchedule {
   /// True when an output is due at time t_si (the first one at t = 0); marks it done.
   bool due(double t_si, double dt_si);
   bool enabled() const { return interval_si_ >= 0.0; }
-  /// Index of the next output (the one at next_index x interval): what a checkpoint stores so
-  /// that a continued run neither repeats nor skips an output.
+  /// Index of the next output (the one at next_index x interval; with an interval of 0, every
+  /// step, the next step's number): what a checkpoint stores so that a continued run neither
+  /// repeats nor skips an output.
   std::int64_t next_index() const { return next_index_; }
   void set_next_index(std::int64_t index) { next_index_ = index; }
 

@@ -3,11 +3,19 @@
 // 2 cores), writes the same time series and VTK files as the plain run, byte for byte. Exact equality is the
 // right check: a split run adds every sum in the one-process order (tests/coupling/
 // test_split_simulation.cpp), so a difference is a lost message or a reordered sum. A malformed
-// case under mpirun is reported once, and every process exits with the input-error status.
+// case under mpirun is reported once, and every process exits with the input-error status. A run
+// stopped under mpirun continues from its checkpoint parts under the same number of processes.
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -85,6 +93,79 @@ TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
   fs::remove_all(plain);
   fs::remove(case_path);
   fs::remove(scratch("mpi_out"));
+}
+
+/// Rows of a timeseries.csv whose time is past `t` (the first column).
+int rows_after(const fs::path& csv, double t) {
+  std::istringstream text(read_text(csv));
+  std::string line;
+  std::getline(text, line);  // header
+  int rows = 0;
+  while (std::getline(text, line))
+    if (!text.eof() && std::stod(line.substr(0, line.find(','))) > t) ++rows;
+  return rows;
+}
+
+// SIGTERM to mpirun, which passes it to every process: the processes agree to stop after the same
+// step, each writes its part of the checkpoint and rank 0 the manifest (docs/checkpoints.md,
+// "Across processes"). Continued under the same number of processes the run ends as the plain run
+// did, byte for byte (the restart is exact, as in one process); under another number it is
+// refused before anything is written.
+TEST(MpiRun, AStoppedRunContinuesUnderTheSameNumberOfProcesses) {
+  const fs::path case_path = write_scratch_case("mpi_restart_sphere", kSphereCase);
+  const fs::path plain = scratch("mpi_restart_plain");
+  ASSERT_EQ(run_settle("run", case_path.string() + " -o " + plain.string() + " --threads 1 --quiet").status, 0);
+  const char* binary = std::getenv("SETTLE_BINARY");
+  ASSERT_NE(binary, nullptr);
+  const fs::path dir = scratch("mpi_restart");
+  const fs::path out = scratch("mpi_restart_out");
+  const std::string command = launcher(2) + binary + " run " + case_path.string() + " -o " + dir.string() +
+                              " --threads 1 --quiet --set run.checkpoint_interval=0.01";
+  const pid_t launcher_pid = ::fork();
+  ASSERT_GE(launcher_pid, 0);
+  if (launcher_pid == 0) {
+    if (!std::freopen(out.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) ::_exit(127);
+    ::execl("/bin/sh", "sh", "-c", ("exec env " + command).c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Stopped once the first checkpoint (t = 0.01 s) is written and the run has gone past it.
+  bool ready = false;
+  for (int poll = 0; poll < 30000 && !ready; ++poll) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ready = fs::exists(dir / "checkpoint.bin") && rows_after(dir / "timeseries.csv", 0.0101) > 2;
+    if (::waitpid(launcher_pid, nullptr, WNOHANG) == launcher_pid) break;
+  }
+  ::kill(launcher_pid, SIGTERM);
+  int raw = 0;
+  ::waitpid(launcher_pid, &raw, 0);
+  ASSERT_TRUE(ready) << "the run ended before it could be stopped after its first checkpoint\n" << read_text(out);
+  // mpirun ends with its own status (1 with Open MPI) once a process returned 143; rank 0 alone says why.
+  EXPECT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) != 0) << raw;
+  const std::string said = read_text(out);
+  const auto first = said.find("settle: run interrupted by SIGTERM");
+  EXPECT_NE(first, std::string::npos) << said;
+  EXPECT_EQ(said.find("settle: run interrupted", first + 1), std::string::npos) << "reported twice:\n" << said;
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  int step_folders = 0;
+  for (const auto& step : fs::directory_iterator(dir / "checkpoint.bin.parts")) {
+    EXPECT_TRUE(fs::exists(step.path() / "rank-00000.bin") && fs::exists(step.path() / "rank-00001.bin"));
+    ++step_folders;
+  }
+  EXPECT_EQ(step_folders, 1);  // the parts of earlier checkpoints are gone
+
+  const auto alone = run_settle("run", "--restart " + dir.string());
+  EXPECT_EQ(alone.status, 2);
+  EXPECT_NE(alone.err.find("written by 2 processes, this run has 1; continue it with mpirun -n 2"), std::string::npos)
+      << alone.err;
+  const std::string restart =
+      launcher(2) + binary + " run --restart " + dir.string() + " --quiet > " + out.string() + " 2>&1";
+  ASSERT_EQ(std::system(restart.c_str()), 0) << read_text(out);
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(plain / "timeseries.csv"));
+  EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  fs::remove_all(dir);
+  fs::remove_all(plain);
+  fs::remove(case_path);
+  fs::remove(out);
 }
 
 TEST(MpiRun, AMalformedCaseIsReportedOnceAndEveryProcessFails) {
