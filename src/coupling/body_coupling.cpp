@@ -29,7 +29,7 @@ std::unique_ptr<BodyCoupling> make_coupling(std::shared_ptr<const body::Shape> s
                                             const CouplingOptions& options, parallel::Communicator& communicator) {
   if (options.kind == CouplingKind::momentum_exchange)
     return std::make_unique<MomentumExchangeCoupling>(std::move(shape), dx_si, options, communicator);
-  return std::make_unique<ImmersedBoundaryCoupling>(std::move(shape), dx_si, options);
+  return std::make_unique<ImmersedBoundaryCoupling>(std::move(shape), dx_si, options, communicator);
 }
 
 }  // namespace settle::coupling

@@ -1,8 +1,10 @@
 #include "coupling/immersed_body.hpp"
 
-#include "ibm/volume_fraction.hpp"
-
 #include <cmath>
+#include <stdexcept>
+
+#include "coupling/lattice_view.hpp"
+#include "ibm/volume_fraction.hpp"
 
 namespace settle::coupling {
 namespace {
@@ -78,20 +80,63 @@ bool box_fits(const CellBox& box, const lbm::Solver& solver) {
   return true;
 }
 
-ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box) {
-  ibm::LocalGrid grid(box.origin, box.extent);
+std::vector<std::array<int, 3>> cells_of(const CellBox& box) {
+  std::vector<std::array<int, 3>> cells;
+  cells.reserve(box.cell_count());
   for (int k = 0; k < box.extent[2]; ++k)
     for (int j = 0; j < box.extent[1]; ++j)
-      for (int i = 0; i < box.extent[0]; ++i) {
-        const lbm::CellState s = solver.cell_state(box.origin[0] + i, box.origin[1] + j, box.origin[2] + k);
-        const std::size_t c = grid.index(i, j, k);
-        grid.rho[c] = s.density;
-        for (std::size_t a = 0; a < 3; ++a) grid.velocity[a][c] = s.velocity[static_cast<Eigen::Index>(a)];
-      }
+      for (int i = 0; i < box.extent[0]; ++i)
+        cells.push_back({box.origin[0] + i, box.origin[1] + j, box.origin[2] + k});
+  return cells;
+}
+
+std::vector<lbm::CellState> cell_states(const lbm::Solver& solver, const std::vector<std::array<int, 3>>& cells,
+                                        parallel::Communicator& ranks) {
+  std::vector<lbm::CellState> states(cells.size());
+  const LatticeView view(solver);
+  if (!view.split()) {
+    for (std::size_t n = 0; n < cells.size(); ++n) states[n] = solver.cell_state(cells[n][0], cells[n][1], cells[n][2]);
+    return states;
+  }
+  // Each rank sends its cells' four values in list order; the owner of each cell says whose
+  // message holds it next. Exact copies: every rank holds the owner's bits.
+  constexpr std::size_t kValues = 4;
+  std::vector<int> owner(cells.size());
+  std::vector<double> mine;
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    const auto wrapped = view.wrap(cells[n]);
+    if (!wrapped) throw std::logic_error("cell_states: a cell lies beyond a face that is not periodic");
+    owner[n] = view.owner(*wrapped);
+    if (owner[n] != view.rank()) continue;
+    const auto l = view.to_block(*wrapped);
+    const lbm::CellState s = solver.cell_state(l[0], l[1], l[2]);
+    mine.insert(mine.end(), {s.density, s.velocity.x(), s.velocity.y(), s.velocity.z()});
+  }
+  const std::vector<std::vector<double>> parts = ranks.gather_all(mine);
+  std::vector<std::size_t> read(parts.size(), 0);
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    const std::vector<double>& part = parts.at(static_cast<std::size_t>(owner[n]));
+    std::size_t& at = read[static_cast<std::size_t>(owner[n])];
+    if (at + kValues > part.size()) throw std::logic_error("cell_states: a rank sent fewer cells than it owns");
+    states[n].density = part[at];
+    states[n].velocity = Eigen::Vector3d(part[at + 1], part[at + 2], part[at + 3]);
+    at += kValues;
+  }
+  return states;
+}
+
+ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box, parallel::Communicator& ranks) {
+  ibm::LocalGrid grid(box.origin, box.extent);
+  const std::vector<lbm::CellState> states = cell_states(solver, cells_of(box), ranks);
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    grid.rho[c] = states[c].density;
+    for (std::size_t a = 0; a < 3; ++a) grid.velocity[a][c] = states[c].velocity[static_cast<Eigen::Index>(a)];
+  }
   return grid;
 }
 
 void scatter_forces(lbm::Solver& solver, const ibm::LocalGrid& grid) {
+  const LatticeView view(solver);
   const auto& o = grid.origin();
   const auto& e = grid.extent();
   for (int k = 0; k < e[2]; ++k)
@@ -100,7 +145,14 @@ void scatter_forces(lbm::Solver& solver, const ibm::LocalGrid& grid) {
         const std::size_t c = grid.index(i, j, k);
         const Eigen::Vector3d f(grid.force[0][c], grid.force[1][c], grid.force[2][c]);
         if (f.isZero(0.0)) continue;
-        solver.set_force(o[0] + i, o[1] + j, o[2] + k, f);
+        if (!view.split()) {
+          solver.set_force(o[0] + i, o[1] + j, o[2] + k, f);
+          continue;
+        }
+        const auto wrapped = view.wrap({o[0] + i, o[1] + j, o[2] + k});
+        if (!wrapped || view.owner(*wrapped) != view.rank()) continue;
+        const auto l = view.to_block(*wrapped);
+        solver.set_force(l[0], l[1], l[2], f);
       }
 }
 
@@ -184,11 +236,13 @@ SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& bo
   return cells;
 }
 
-FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre) {
+FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre,
+                                parallel::Communicator& ranks) {
   FluidMomentum p;
+  const std::vector<lbm::CellState> states = cell_states(solver, cells.cell, ranks);
   for (std::size_t n = 0; n < cells.cell.size(); ++n) {
     const auto& c = cells.cell[n];
-    const lbm::CellState s = solver.cell_state(c[0], c[1], c[2]);
+    const lbm::CellState& s = states[n];
     const Eigen::Vector3d momentum = cells.alpha[n] * s.density * s.velocity;
     p.linear += momentum;
     p.angular += (Eigen::Vector3d(c[0], c[1], c[2]) - centre).cross(momentum);

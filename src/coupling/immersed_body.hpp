@@ -25,6 +25,7 @@
 #include "body/shape.hpp"
 #include "ibm/forcing.hpp"
 #include "lbm/solver.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::coupling {
 
@@ -90,10 +91,20 @@ struct CellBox {
 /// the grid's (no cell twice), on any other axis it lies inside the grid.
 bool box_fits(const CellBox& box, const lbm::Solver& solver);
 
-/// Copies density and velocity (with every force present in the solver, Guo half-step included)
-/// of the box's cells out of the solver; periodic axes wrap.
-ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box);
-/// Writes the box's non-zero force density into the solver (set_force; call clear_forces first).
+/// Density and velocity (with every force present in the solver, Guo half-step included) of
+/// `cells` (whole-lattice coordinates; periodic axes wrap), in list order. On a split lattice every
+/// rank calls it with the same list: each reads the cells of its block, and all receive all
+/// (docs/parallel.md, "The immersed boundary across ranks"), so every rank holds the same values
+/// as one process would.
+std::vector<lbm::CellState> cell_states(const lbm::Solver& solver, const std::vector<std::array<int, 3>>& cells,
+                                        parallel::Communicator& ranks = parallel::single_process());
+/// The box's cells in box order (x fastest), whole-lattice coordinates, unwrapped.
+std::vector<std::array<int, 3>> cells_of(const CellBox& box);
+/// Copies the box's cells out of the solver (cell_states): the whole box on every rank.
+ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box,
+                      parallel::Communicator& ranks = parallel::single_process());
+/// Writes the box's non-zero force density into the solver (set_force; call clear_forces first);
+/// a block of a split lattice takes its own cells' forces.
 void scatter_forces(lbm::Solver& solver, const ibm::LocalGrid& grid);
 
 /// Solid volume fraction of the cells of a box, for the shape at a pose (lattice units), from
@@ -114,7 +125,8 @@ struct FluidMomentum {
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();
 };
-FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre);
+FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre,
+                                parallel::Communicator& ranks = parallel::single_process());
 
 /// Force and torque (about `centre`) that the fluid exerts on the markers, lattice units: minus
 /// the sum of the marker forces on the fluid.

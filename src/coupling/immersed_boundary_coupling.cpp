@@ -6,10 +6,11 @@
 namespace settle::coupling {
 
 ImmersedBoundaryCoupling::ImmersedBoundaryCoupling(std::shared_ptr<const body::Shape> shape, double dx_si,
-                                                   const CouplingOptions& options)
+                                                   const CouplingOptions& options, parallel::Communicator& communicator)
     : shape_(std::move(shape)),
       dx_si_(dx_si),
       options_(options),
+      communicator_(communicator),
       body_markers_(make_body_markers(*shape_, dx_si_, options.marker_retraction_cells, options.interior_markers)) {}
 
 CellBox immersed_boundary_box(const body::Shape& shape, double dx_si, ibm::DeltaKernel kernel,
@@ -40,7 +41,8 @@ CellBox ImmersedBoundaryCoupling::box_at(const Eigen::Vector3d& centre, const Ei
 
 FluidMomentum ImmersedBoundaryCoupling::internal_momentum_at(const lbm::Solver& fluid, const LatticePose& pose) const {
   const CellBox box = box_at(pose.centre, pose.body_to_inertial);
-  return internal_momentum(fluid, solid_cells(*shape_, dx_si_, box, pose.centre, pose.body_to_inertial), pose.centre);
+  return internal_momentum(fluid, solid_cells(*shape_, dx_si_, box, pose.centre, pose.body_to_inertial), pose.centre,
+                           communicator_);
 }
 
 void ImmersedBoundaryCoupling::start(lbm::Solver& fluid, const LatticePose& pose) {
@@ -55,14 +57,14 @@ void ImmersedBoundaryCoupling::place(const lbm::Solver&, const LatticePose& pose
 
 void ImmersedBoundaryCoupling::impose(lbm::Solver& fluid) {
   fluid.clear_forces();
-  ibm::LocalGrid grid = gather(fluid, box_);
+  ibm::LocalGrid grid = gather(fluid, box_, communicator_);
   forcing_ = ibm::multi_direct_forcing(grid, markers_, {options_.kernel, options_.forcing_iterations});
   scatter_forces(fluid, grid);
 }
 
 CouplingForces ImmersedBoundaryCoupling::measure(const lbm::Solver& fluid) {
-  const FluidMomentum internal_after =
-      internal_momentum(fluid, solid_cells(*shape_, dx_si_, box_, pose_.centre, pose_.body_to_inertial), pose_.centre);
+  const FluidMomentum internal_after = internal_momentum(
+      fluid, solid_cells(*shape_, dx_si_, box_, pose_.centre, pose_.body_to_inertial), pose_.centre, communicator_);
   CouplingForces f;
   f.surface = marker_reaction(markers_, forcing_.marker_force, pose_.centre);
   f.total = hydrodynamic_wrench(f.surface, internal_before_, internal_after);

@@ -8,6 +8,7 @@
 
 #include "coupling/body_coupling.hpp"
 #include "ibm/forcing.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::coupling {
 
@@ -19,7 +20,11 @@ CellBox immersed_boundary_box(const body::Shape& shape, double dx_si, ibm::Delta
 
 class ImmersedBoundaryCoupling final : public BodyCoupling {
  public:
-  ImmersedBoundaryCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options);
+  /// On a split lattice every rank holds the same markers and forcing: each reads its block's part
+  /// of the box, all receive the whole box (cell_states), run the same forcing on it and write
+  /// the forces of their own cells (docs/parallel.md, "The immersed boundary across ranks").
+  ImmersedBoundaryCoupling(std::shared_ptr<const body::Shape> shape, double dx_si, const CouplingOptions& options,
+                           parallel::Communicator& communicator = parallel::single_process());
 
   CouplingKind kind() const override { return CouplingKind::immersed_boundary; }
   CellBox box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) const override;
@@ -38,6 +43,7 @@ class ImmersedBoundaryCoupling final : public BodyCoupling {
   std::shared_ptr<const body::Shape> shape_;
   double dx_si_;
   CouplingOptions options_;
+  parallel::Communicator& communicator_;
   BodyMarkers body_markers_;
   // The step in progress: its pose, markers, box and forcing.
   LatticePose pose_;

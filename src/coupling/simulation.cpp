@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "common/error.hpp"
+#include "coupling/lattice_view.hpp"
 #include "ibm/forcing.hpp"
 #include "lbm/decomposition.hpp"
 #include "parallel/lattice_steps.hpp"
@@ -90,11 +91,6 @@ Simulation::Simulation(SimulationSetup setup, parallel::Communicator& communicat
   const lbm::SolverConfig config = fluid_config();
   lbm::validate(config);
 
-  if (communicator_.size() > 1 && setup_.coupling != CouplingKind::momentum_exchange) {
-    throw InputError(
-        "numerics.coupling: across processes (mpirun) only \"momentum_exchange\" runs yet; the immersed boundary "
-        "runs in one process");
-  }
   coupling_ = make_coupling(setup_.shape, plan_.units.dx_si(), coupling_options(setup_), communicator_);
 
   // The body and the cells its coupling works on must start inside the grid: checked before the
@@ -283,8 +279,11 @@ Eigen::Vector3d Simulation::superficial_velocity_si() const {
   // immersed boundary is taken out by its volume fractions.
   if (coupling_->fluid_inside()) {
     const SolidCells cells = current_solid_cells();
+    const LatticeView view(*fluid_);
     for (std::size_t n = 0; n < cells.cell.size(); ++n) {
-      const auto& c = cells.cell[n];
+      const auto wrapped = view.wrap(cells.cell[n]);
+      if (!wrapped || view.owner(*wrapped) != view.rank()) continue;  // another block's
+      const auto c = view.to_block(*wrapped);
       sum -= cells.alpha[n] * fluid_->cell_velocity(c[0], c[1], c[2]);
     }
   }

@@ -101,7 +101,7 @@ class Simulation {
   /// Converts units and checks the case before allocating anything (settle::InputError naming
   /// the key to change); then builds the fluid, the body and its markers. With a communicator of
   /// more than one rank, this rank holds one block of the lattice (lbm::choose_split) and the body
-  /// is coupled across the blocks (momentum exchange only; docs/parallel.md): every rank steps
+  /// is coupled across the blocks (either coupling; docs/parallel.md): every rank steps
   /// together and holds the same body state.
   explicit Simulation(SimulationSetup setup, parallel::Communicator& communicator = parallel::single_process());
 

@@ -1,5 +1,6 @@
 // `settle run` under mpirun (docs/parallel.md): the CI-sized free-settling sphere with the
-// momentum exchange and the window following it, on 1, 2 and 4 processes (oversubscribed: CI has
+// momentum exchange and the window following it, on 1, 2 and 4 processes (and with the immersed
+// boundary on 2 and 4) (oversubscribed: CI has
 // 2 cores), writes the same time series and VTK files as the plain run, byte for byte. Exact equality is the
 // right check: a split run adds every sum in the one-process order (tests/coupling/
 // test_split_simulation.cpp), so a difference is a lost message or a reordered sum. A malformed
@@ -30,9 +31,11 @@ using settle::test::run_settle;
 using settle::test::scratch;
 using settle::test::write_scratch_case;
 
-// tests/app/test_free_settling_cli.cpp's sphere (Re ~ 16, 8 d wide window with 5 d ahead), at 6
-// cells per diameter, with the momentum exchange, started at about its terminal speed so that the
-// window shifts within the 0.03 s run (about 6 times: it falls 6.6 cells).
+// tests/app/test_free_settling_cli.cpp's sphere (Re ~ 16, 8 d wide window), at 6 cells per
+// diameter, with the momentum exchange, started at about its terminal speed so that the window
+// shifts within the 0.03 s run (about 6 times: it falls 6.6 cells). The window holds it across
+// z = 8 d, where 2 and 4 processes cut the 48 x 48 x 96 grid (1 x 1 x 2 and 1 x 1 x 4 blocks), so
+// that its cells and links lie in two blocks.
 const char* kSphereCase = R"toml(
 [fluid]
 density = 1000.0
@@ -42,7 +45,7 @@ gravity = [0.0, 0.0, -9.81]
 shape = "sphere"
 diameter = 1.0e-3
 density = 2000.0
-position = [4.0e-3, 4.0e-3, 6.0e-3]
+position = [4.0e-3, 4.0e-3, 8.0e-3]
 velocity = [0.0, 0.0, -0.03]
 [domain]
 size = [8.0e-3, 8.0e-3, 16.0e-3]
@@ -64,16 +67,19 @@ std::string launcher(int ranks) {
          " --oversubscribe --allow-run-as-root -n " + std::to_string(ranks) + " ";
 }
 
-TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
-  const fs::path case_path = write_scratch_case("mpi_sphere", kSphereCase);
-  const fs::path plain = scratch("mpi_plain");
+/// Runs `case_text` plainly and under mpirun with each of `process_counts`: the same time series
+/// and VTK files, byte for byte.
+void expect_mpi_runs_as_plain(const std::string& name, const std::string& case_text,
+                              const std::vector<int>& process_counts) {
+  const fs::path case_path = write_scratch_case(name, case_text);
+  const fs::path plain = scratch(name + "_plain");
   const auto reference = run_settle("run", case_path.string() + " -o " + plain.string() + " --threads 1 --quiet");
   ASSERT_EQ(reference.status, 0) << reference.err;
   const std::string series = read_text(plain / "timeseries.csv");
   ASSERT_GT(std::count(series.begin(), series.end(), '\n'), 200);  // every step of 0.03 s
-  for (const int ranks : {1, 2, 4}) {
+  for (const int ranks : process_counts) {
     SCOPED_TRACE(std::to_string(ranks) + " processes");
-    const fs::path dir = scratch("mpi_n" + std::to_string(ranks));
+    const fs::path dir = scratch(name + "_n" + std::to_string(ranks));
     const char* binary = std::getenv("SETTLE_BINARY");
     ASSERT_NE(binary, nullptr);
     const std::string command = launcher(ranks) + binary + " run " + case_path.string() + " -o " + dir.string() +
@@ -93,6 +99,18 @@ TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
   fs::remove_all(plain);
   fs::remove(case_path);
   fs::remove(scratch("mpi_out"));
+}
+
+TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
+  expect_mpi_runs_as_plain("mpi_sphere", kSphereCase, {1, 2, 4});
+}
+
+// The same sphere with the immersed boundary (the default coupling): its markers' stencils and its
+// volume fractions straddle the blocks of 2 and 4 processes.
+TEST(MpiRun, TheImmersedBoundaryOnTwoAndFourProcessesWritesThePlainRunsTimeSeries) {
+  std::string text = kSphereCase;
+  text.replace(text.find("coupling = \"momentum_exchange\""), 30, "coupling = \"immersed_boundary\"");
+  expect_mpi_runs_as_plain("mpi_sphere_ibm", text, {2, 4});
 }
 
 /// Rows of a timeseries.csv whose time is past `t` (the first column).
