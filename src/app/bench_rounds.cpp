@@ -24,7 +24,8 @@ double median(std::vector<double> values) {
 // the median over the rounds whose two probes agree within 10% (the bandwidth held still; over all
 // rounds if none did): separate medians of throughput and bandwidth would mix rounds from
 // different modes. The probe keeps the best of 3 sweeps, which favours the probe, not the kernel.
-BracketedRounds run_bracketed_rounds(int rounds, double probe_gib, const std::function<RoundResult(int)>& run_round) {
+BracketedRounds run_bracketed_rounds(int rounds, double probe_gib, const std::function<RoundResult(int)>& run_round,
+                                     bool speak) {
   const auto probe = [probe_gib] {
     return measure_inplace_bandwidth(static_cast<std::size_t>(probe_gib * 1073741824.0), 3).bandwidth_gbs;
   };
@@ -37,8 +38,9 @@ BracketedRounds run_bracketed_rounds(int rounds, double probe_gib, const std::fu
     const double bracket_gbs = 0.5 * (before + after);
     b.fraction.push_back(r.achieved_gbs / bracket_gbs);
     if (std::abs(after - before) <= 0.1 * bracket_gbs) b.steady_fraction.push_back(b.fraction.back());
-    fmt::print(stderr, "  round {}: {}, probes {:.1f} / {:.1f} GB/s, fraction {:.3f}\n", round + 1, r.description,
-               before, after, b.fraction.back());
+    if (speak)
+      fmt::print(stderr, "  round {}: {}, probes {:.1f} / {:.1f} GB/s, fraction {:.3f}\n", round + 1, r.description,
+                 before, after, b.fraction.back());
   }
   return b;
 }

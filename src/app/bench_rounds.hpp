@@ -26,8 +26,9 @@ struct BracketedRounds {
 double median(std::vector<double> values);
 
 /// Runs `rounds` rounds (run_round receives the round's index) between bandwidth probes of
-/// `probe_gib` GiB, printing one line per round to stderr.
-BracketedRounds run_bracketed_rounds(int rounds, double probe_gib, const std::function<RoundResult(int)>& run_round);
+/// `probe_gib` GiB, printing one line per round to stderr when `speak` (under mpirun, rank 0).
+BracketedRounds run_bracketed_rounds(int rounds, double probe_gib, const std::function<RoundResult(int)>& run_round,
+                                     bool speak = true);
 
 /// Adds the probes, the per-round fractions, their median (`roofline_fraction`) and the build to
 /// a benchmark's JSON.

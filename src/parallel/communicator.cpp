@@ -25,6 +25,21 @@ void check(int code, const char* what) {
   if (code != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
 
+// Counts one collective call into the traffic when it returns.
+class Stopwatch {
+ public:
+  Stopwatch(Traffic& traffic, std::size_t values) : traffic_(traffic), start_(MPI_Wtime()) {
+    traffic_.collective_bytes_sent += values * sizeof(double);
+  }
+  ~Stopwatch() { traffic_.collective_seconds += MPI_Wtime() - start_; }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  Traffic& traffic_;
+  double start_;
+};
+
 class MpiWorld final : public Communicator {
  public:
   MpiWorld() {
@@ -41,6 +56,7 @@ class MpiWorld final : public Communicator {
   void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
                 std::vector<std::vector<double>>& receive) override {
     if (send.size() != ranks.size()) throw std::invalid_argument("exchange: one message per rank");
+    const double start = MPI_Wtime();
     std::vector<MPI_Request> sends(ranks.size());
     for (std::size_t k = 0; k < ranks.size(); ++k) {
       check(MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
@@ -60,9 +76,13 @@ class MpiWorld final : public Communicator {
             "MPI_Recv");
     }
     check(MPI_Waitall(static_cast<int>(sends.size()), sends.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+    for (const auto& message : send) traffic_.exchange_bytes_sent += message.size() * sizeof(double);
+    traffic_.exchange_messages_sent += send.size();
+    traffic_.exchange_seconds += MPI_Wtime() - start;
   }
 
   std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) override {
+    const Stopwatch watch(traffic_, mine.size());
     const int count = static_cast<int>(mine.size());
     std::vector<int> counts(static_cast<std::size_t>(size_)), starts(static_cast<std::size_t>(size_));
     check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
@@ -80,6 +100,7 @@ class MpiWorld final : public Communicator {
   }
 
   std::vector<std::vector<double>> gather_to_root(const std::vector<double>& mine) override {
+    const Stopwatch watch(traffic_, mine.size());
     const int count = static_cast<int>(mine.size());
     std::vector<int> counts(static_cast<std::size_t>(size_)), starts(static_cast<std::size_t>(size_));
     check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");

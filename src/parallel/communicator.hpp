@@ -2,14 +2,28 @@
 // The processes of one run and the messages between them (docs/parallel.md). A process started by
 // mpirun (or srun) joins MPI's world; any other process is a run of one, rank 0 of 1, and never
 // initialises MPI.
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace settle::parallel {
 
+/// What a process sent to the others and how long it spent in the calls that move messages (for
+/// `settle bench`; docs/parallel.md, "Speed"). Counted by the MPI communicator; a run of one
+/// process sends nothing.
+struct Traffic {
+  std::uint64_t exchange_bytes_sent = 0;  ///< neighbour messages (exchange): the ghost traffic
+  std::uint64_t exchange_messages_sent = 0;
+  double exchange_seconds = 0.0;            ///< in exchange(): posting, waiting for and receiving
+  std::uint64_t collective_bytes_sent = 0;  ///< this rank's parts of gather_all / gather_to_root
+  double collective_seconds = 0.0;
+};
+
 class Communicator {
  public:
   virtual ~Communicator() = default;
+  /// This process's traffic since it started.
+  const Traffic& traffic() const { return traffic_; }
   virtual int rank() const = 0;
   virtual int size() const = 0;
   /// Sends send[k] to ranks[k] and receives receive[k] from ranks[k], for every k, and returns
@@ -23,6 +37,9 @@ class Communicator {
   /// Ends every process of the run with `status` (after a failure on this one: the others may be
   /// waiting for its messages).
   [[noreturn]] virtual void abort(int status) = 0;
+
+ protected:
+  Traffic traffic_;
 };
 
 /// The element-wise sum of every rank's `mine` (all of one length), added in rank order on every

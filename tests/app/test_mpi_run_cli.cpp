@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
 
@@ -184,6 +185,37 @@ TEST(MpiRun, AStoppedRunContinuesUnderTheSameNumberOfProcesses) {
   fs::remove_all(plain);
   fs::remove(case_path);
   fs::remove(out);
+}
+
+// `settle bench` under mpirun (docs/parallel.md, "Speed"): each rank benches its block and rank 0
+// prints one JSON with a row per rank. The ghost traffic is counted by the communicator, so it is
+// checked against its closed form: a 16^3 periodic box cut in two along z (1 x 1 x 2: the two
+// blocks share two faces, one through the periodic wrap) sends, per step, the 5 populations of
+// D3Q19 that cross a face for each of the 16 x 16 cells of each face, as doubles: 2 x 5 x 256 x 8
+// = 20480 bytes, in one message to the one neighbour.
+TEST(MpiRun, BenchReportsEachRanksBlockAndItsGhostTraffic) {
+  const char* binary = std::getenv("SETTLE_BINARY");
+  ASSERT_NE(binary, nullptr);
+  const fs::path out = scratch("mpi_bench_out"), err = scratch("mpi_bench_err");
+  const std::string command = launcher(2) + binary +
+                              " bench --size 16 --steps 4 --rounds 1 --probe-gib 0.0625 --threads 1 > " + out.string() +
+                              " 2> " + err.string();
+  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(err);
+  const nlohmann::json j = nlohmann::json::parse(read_text(out));  // one document: rank 0 alone prints
+  EXPECT_EQ(j.at("processes"), 2);
+  EXPECT_EQ(j.at("split_blocks"), nlohmann::json::array({1, 1, 2}));
+  EXPECT_EQ(j.at("cells").get<double>(), 4096.0);
+  ASSERT_EQ(j.at("ranks").size(), 2u);
+  for (const auto& rank : j.at("ranks")) {
+    EXPECT_EQ(rank.at("block_cells").get<double>(), 2048.0);
+    EXPECT_EQ(rank.at("ghost_bytes_sent_per_step").get<double>(), 20480.0);
+    EXPECT_EQ(rank.at("messages_sent_per_step").get<double>(), 1.0);
+    EXPECT_GT(rank.at("mlups").get<double>(), 0.0);
+    EXPECT_GE(rank.at("exchange_share").get<double>(), 0.0);
+    EXPECT_LE(rank.at("exchange_share").get<double>(), 1.0);
+  }
+  fs::remove(out);
+  fs::remove(err);
 }
 
 TEST(MpiRun, AMalformedCaseIsReportedOnceAndEveryProcessFails) {
