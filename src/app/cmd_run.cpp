@@ -45,6 +45,7 @@
 #include "io/preflight.hpp"
 #include "io/pvd.hpp"
 #include "io/vtk.hpp"
+#include "io/vtk_pieces.hpp"
 #include "lbm/config.hpp"
 #include "lbm/decomposition.hpp"
 #include "lbm/solver.hpp"
@@ -245,10 +246,12 @@ class VtkOutput {
     const std::string index = fmt::format("{:06d}", count_++);
     io::VtkOptions options;
     options.time_si = t_si;
-    const fs::path fluid_file = dir_ / ("fluid_" + index + ".vti");
+    const bool split = sim_.communicator().size() > 1;
+    const fs::path fluid_file = dir_ / ("fluid_" + index + (split ? ".pvti" : ".vti"));
     const io::FieldScaling scaling = io::field_scaling(sim_.units(), sim_.frame().window_origin_si);
-    if (sim_.communicator().size() > 1) {
-      write_gathered_fluid(fluid_file, scaling, options);
+    if (split) {
+      // A piece per rank and the .pvti that joins them (io/vtk_pieces.hpp).
+      io::write_fluid_pieces(fluid_file, sim_, scaling, options);
       if (!lead_) return;
     } else {
       const std::vector<io::ScalarPointField> extra{
@@ -272,47 +275,6 @@ class VtkOutput {
   }
 
  private:
-  // A split run: every rank sends its block's velocity and pressure to rank 0, which writes the
-  // file the one-process run writes (the vorticity from the whole velocity field). One file, so
-  // rank 0 holds the whole field while it writes (parallel pieces, .pvti, are not written yet).
-  void write_gathered_fluid(const fs::path& file, const io::FieldScaling& scaling, const io::VtkOptions& options) {
-    const lbm::Solver& block = sim_.fluid();
-    const lbm::VectorField u = block.velocity_field();
-    const std::vector<double> p = block.pressure_field();
-    std::vector<double> mine;
-    mine.reserve(4 * p.size());
-    for (std::size_t n = 0; n < p.size(); ++n) mine.insert(mine.end(), {u.x[n], u.y[n], u.z[n], p[n]});
-    const std::vector<std::vector<double>> parts = sim_.communicator().gather_to_root(mine);
-    if (parts.empty()) return;
-    const lbm::BlockSplit& split = *block.config().split;
-    io::FluidFieldArrays whole;
-    whole.cells = sim_.derived().cells;
-    const std::size_t cells = static_cast<std::size_t>(sim_.lattice_cell_count());
-    whole.velocity = {std::vector<double>(cells), std::vector<double>(cells), std::vector<double>(cells)};
-    whole.pressure.assign(cells, 0.0);
-    for (int r = 0; r < split.block_count(); ++r) {
-      const std::array<int, 3> o = split.offset(r), e = split.extent(r);
-      std::size_t k = 0;
-      for (int z = 0; z < e[2]; ++z)
-        for (int y = 0; y < e[1]; ++y)
-          for (int x = 0; x < e[0]; ++x) {
-            const std::size_t g =
-                static_cast<std::size_t>(x + o[0]) +
-                static_cast<std::size_t>(whole.cells[0]) *
-                    (static_cast<std::size_t>(y + o[1]) + static_cast<std::size_t>(whole.cells[1]) * (z + o[2]));
-            const std::vector<double>& part = parts[static_cast<std::size_t>(r)];
-            whole.velocity.x[g] = part[k], whole.velocity.y[g] = part[k + 1], whole.velocity.z[g] = part[k + 2];
-            whole.pressure[g] = part[k + 3];
-            k += 4;
-          }
-    }
-    whole.vorticity = lbm::vorticity_of(whole.velocity, whole.cells, block.config().boundaries);
-    const std::vector<io::ScalarPointField> extra{
-        {"solid_fraction",
-         io::solid_fraction_field(whole.cells, block.config().boundaries, sim_.current_solid_cells())}};
-    io::write_fluid_vti(file, whole, scaling, options, extra);
-  }
-
   const coupling::Simulation& sim_;
   fs::path dir_;
   coupling::OutputSchedule schedule_;

@@ -420,10 +420,9 @@ void on_every_rank(parallel::Communicator& ranks, const std::string& what, Actio
   } catch (...) {
     failure = std::current_exception();
   }
-  const std::vector<std::vector<double>> failed = ranks.gather_all({failure ? 1.0 : 0.0});
+  const std::optional<int> failed = parallel::first_failed_rank(ranks, failure != nullptr);
   if (failure) std::rethrow_exception(failure);
-  for (std::size_t r = 0; r < failed.size(); ++r)
-    if (failed[r].at(0) > 0.0) throw CheckpointError(fmt::format("rank {} failed: {}", r, what));
+  if (failed) throw CheckpointError(fmt::format("rank {} failed: {}", *failed, what));
 }
 
 std::filesystem::path part_file(const std::filesystem::path& manifest, std::int64_t step, int rank) {

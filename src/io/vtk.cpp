@@ -238,9 +238,20 @@ FieldScaling field_scaling(const coupling::UnitConverter& units, const Eigen::Ve
 
 namespace {
 
+std::string extent_text(const std::array<int, 3>& first, const std::array<int, 3>& count) {
+  return fmt::format("{} {} {} {} {} {}", first[0], first[0] + count[0] - 1, first[1], first[1] + count[1] - 1,
+                     first[2], first[2] + count[2] - 1);
+}
+
+// Points at the cell centres: cell (0, 0, 0) is centred half a cell inside the window's corner.
+Eigen::Vector3d points_origin_si(const FieldScaling& scaling) {
+  return scaling.window_origin_si + Eigen::Vector3d::Constant(0.5 * scaling.dx_si);
+}
+
 // The fluid's ImageData file from its point arrays (velocity, pressure, vorticity, extras), however
-// they were obtained.
-void write_fluid_image(const fs::path& path, const std::array<int, 3>& cells, std::vector<AppendedArray> point_data,
+// they were obtained: the whole lattice, or one piece of it (points first .. first + cells - 1 of
+// the whole lattice's `whole` points).
+void write_fluid_image(const fs::path& path, const FluidPiece& piece, std::vector<AppendedArray> point_data,
                        const FieldScaling& scaling, const VtkOptions& options) {
   const std::optional<AppendedArray> time = time_array(options);
   std::vector<const AppendedArray*> order;
@@ -248,14 +259,12 @@ void write_fluid_image(const fs::path& path, const std::array<int, 3>& cells, st
   for (const AppendedArray& array : point_data) order.push_back(&array);
   const VtkFileWriter writer(order);
 
-  const std::string extent = fmt::format("0 {} 0 {} 0 {}", cells[0] - 1, cells[1] - 1, cells[2] - 1);
-  // Points at the cell centres: cell (0, 0, 0) is centred half a cell inside the window's corner.
-  const Eigen::Vector3d origin_si = scaling.window_origin_si + Eigen::Vector3d::Constant(0.5 * scaling.dx_si);
+  const std::string whole = extent_text({0, 0, 0}, piece.whole);
   std::string xml = file_header("ImageData");
-  xml += fmt::format("  <ImageData WholeExtent=\"{}\" Origin=\"{}\" Spacing=\"{}\">\n", extent, triple(origin_si),
-                     triple(Eigen::Vector3d::Constant(scaling.dx_si)));
+  xml += fmt::format("  <ImageData WholeExtent=\"{}\" Origin=\"{}\" Spacing=\"{}\">\n", whole,
+                     triple(points_origin_si(scaling)), triple(Eigen::Vector3d::Constant(scaling.dx_si)));
   xml += field_data_xml(writer, time);
-  xml += fmt::format("    <Piece Extent=\"{}\">\n", extent);
+  xml += fmt::format("    <Piece Extent=\"{}\">\n", extent_text(piece.first, piece.cells));
   xml += "      <PointData Scalars=\"pressure\" Vectors=\"velocity\">\n";
   for (const AppendedArray& array : point_data) xml += "        " + writer.tag(array) + "\n";
   xml += "      </PointData>\n      <CellData>\n      </CellData>\n    </Piece>\n  </ImageData>\n";
@@ -284,11 +293,19 @@ void write_fluid_vti(const fs::path& path, const lbm::Solver& fluid, const Field
   point_data.push_back(vector_array(
       "vorticity", options.precision, cells, [&fluid] { return fluid.vorticity_field(); }, scaling.rate_scale_si()));
   add_extra_fields(point_data, extra, options, cells);
-  write_fluid_image(path, {fluid.nx(), fluid.ny(), fluid.nz()}, std::move(point_data), scaling, options);
+  const std::array<int, 3> n{fluid.nx(), fluid.ny(), fluid.nz()};
+  write_fluid_image(path, {n, {0, 0, 0}, n}, std::move(point_data), scaling, options);
 }
 
 void write_fluid_vti(const fs::path& path, const FluidFieldArrays& fields, const FieldScaling& scaling,
                      const VtkOptions& options, std::span<const ScalarPointField> extra) {
+  write_fluid_piece_vti(path, fields, {fields.cells, {0, 0, 0}, fields.cells}, scaling, options, extra);
+}
+
+void write_fluid_piece_vti(const fs::path& path, const FluidFieldArrays& fields, const FluidPiece& piece,
+                           const FieldScaling& scaling, const VtkOptions& options,
+                           std::span<const ScalarPointField> extra) {
+  if (fields.cells != piece.cells) throw std::invalid_argument("write_fluid_piece_vti: the fields are not the piece's");
   const std::size_t cells = static_cast<std::size_t>(fields.cells[0]) * static_cast<std::size_t>(fields.cells[1]) *
                             static_cast<std::size_t>(fields.cells[2]);
   if (fields.velocity.x.size() != cells || fields.pressure.size() != cells || fields.vorticity.x.size() != cells) {
@@ -303,7 +320,29 @@ void write_fluid_vti(const fs::path& path, const FluidFieldArrays& fields, const
   point_data.push_back(vector_array(
       "vorticity", options.precision, cells, [&fields] { return fields.vorticity; }, scaling.rate_scale_si()));
   add_extra_fields(point_data, extra, options, cells);
-  write_fluid_image(path, fields.cells, std::move(point_data), scaling, options);
+  write_fluid_image(path, piece, std::move(point_data), scaling, options);
+}
+
+void write_fluid_pvti(const fs::path& path, const std::array<int, 3>& whole, const std::vector<PieceFile>& pieces,
+                      const FieldScaling& scaling, const VtkOptions& options,
+                      const std::vector<std::string>& extra_names) {
+  const std::string type = vtk_type_name(float_type(options.precision));
+  std::string xml = file_header("PImageData");
+  xml += fmt::format("  <PImageData WholeExtent=\"{}\" GhostLevel=\"0\" Origin=\"{}\" Spacing=\"{}\">\n",
+                     extent_text({0, 0, 0}, whole), triple(points_origin_si(scaling)),
+                     triple(Eigen::Vector3d::Constant(scaling.dx_si)));
+  xml += "    <PPointData Scalars=\"pressure\" Vectors=\"velocity\">\n";
+  xml += fmt::format("      <PDataArray type=\"{}\" Name=\"velocity\" NumberOfComponents=\"3\"/>\n", type);
+  xml += fmt::format("      <PDataArray type=\"{}\" Name=\"pressure\"/>\n", type);
+  xml += fmt::format("      <PDataArray type=\"{}\" Name=\"vorticity\" NumberOfComponents=\"3\"/>\n", type);
+  for (const std::string& name : extra_names)
+    xml += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\"/>\n", type, xml_escaped(name));
+  xml += "    </PPointData>\n";
+  for (const PieceFile& piece : pieces)
+    xml += fmt::format("    <Piece Extent=\"{}\" Source=\"{}\"/>\n", extent_text(piece.piece.first, piece.piece.cells),
+                       xml_escaped(piece.source));
+  xml += "  </PImageData>\n</VTKFile>\n";
+  write_file_atomically(path, xml);
 }
 
 std::vector<double> solid_fraction_field(const lbm::Solver& fluid, const coupling::SolidCells& cells) {

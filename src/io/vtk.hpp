@@ -98,6 +98,31 @@ struct FluidFieldArrays {
 void write_fluid_vti(const std::filesystem::path& path, const FluidFieldArrays& fields, const FieldScaling& scaling,
                      const VtkOptions& options = {}, std::span<const ScalarPointField> extra = {});
 
+/// A piece of the whole lattice's points: `cells` points from `first` (whole-lattice point
+/// indices) of the `whole` lattice's.
+struct FluidPiece {
+  std::array<int, 3> whole{};
+  std::array<int, 3> first{};
+  std::array<int, 3> cells{};
+};
+
+/// One piece of a parallel file (docs/vtk.md, "Across processes"): the fields of `piece` (fields.cells
+/// equal to piece.cells) as an ImageData file whose WholeExtent is the whole lattice's and whose
+/// Piece Extent is the piece's, the same arrays as write_fluid_vti.
+void write_fluid_piece_vti(const std::filesystem::path& path, const FluidFieldArrays& fields, const FluidPiece& piece,
+                           const FieldScaling& scaling, const VtkOptions& options = {},
+                           std::span<const ScalarPointField> extra = {});
+
+/// The parallel ImageData file (.pvti) that ParaView opens as the whole lattice: the arrays'
+/// names and types and each piece's extent and file (`source`, relative to the .pvti's folder).
+struct PieceFile {
+  FluidPiece piece;
+  std::string source;
+};
+void write_fluid_pvti(const std::filesystem::path& path, const std::array<int, 3>& whole,
+                      const std::vector<PieceFile>& pieces, const FieldScaling& scaling, const VtkOptions& options,
+                      const std::vector<std::string>& extra_names);
+
 /// Solid volume fraction per cell (linear index of `fluid`), 0 outside the body, from the body's
 /// solid cells (coupling::solid_cells). Cells on periodic axes wrap into the grid; cells outside
 /// a non-periodic axis (none, for a body the coupling can step) are dropped.

@@ -131,6 +131,13 @@ class MpiWorld final : public Communicator {
 
 }  // namespace
 
+std::optional<int> first_failed_rank(Communicator& communicator, bool failed) {
+  const std::vector<std::vector<double>> flags = communicator.gather_all({failed ? 1.0 : 0.0});
+  for (std::size_t r = 0; r < flags.size(); ++r)
+    if (flags[r].at(0) > 0.0) return static_cast<int>(r);
+  return std::nullopt;
+}
+
 std::vector<double> sum_in_rank_order(Communicator& communicator, const std::vector<double>& mine) {
   const std::vector<std::vector<double>> all = communicator.gather_all(mine);
   std::vector<double> sum(mine.size(), 0.0);

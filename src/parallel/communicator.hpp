@@ -3,6 +3,7 @@
 // mpirun (or srun) joins MPI's world; any other process is a run of one, rank 0 of 1, and never
 // initialises MPI.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ class Communicator {
 /// rank: the same bits on every rank and in every run with this many ranks (an MPI_Allreduce may
 /// add in any order).
 std::vector<double> sum_in_rank_order(Communicator& communicator, const std::vector<double>& mine);
+
+/// The first rank, in rank order, whose `failed` is true, the same on every rank (every rank calls
+/// it); none when no rank failed. A step that can fail on one rank alone (writing its file) is
+/// followed by this, so that all ranks go on or all stop together.
+std::optional<int> first_failed_rank(Communicator& communicator, bool failed);
 
 /// True when this process was started by an MPI launcher (the environment variables OpenMPI's
 /// mpirun, Hydra and Slurm's PMI set for their processes).

@@ -1,16 +1,18 @@
 // `settle run` under mpirun (docs/parallel.md): the CI-sized free-settling sphere with the
 // momentum exchange and the window following it, on 1, 2 and 4 processes (and with the immersed
-// boundary on 2 and 4) (oversubscribed: CI has
-// 2 cores), writes the same time series and VTK files as the plain run, byte for byte. Exact equality is the
-// right check: a split run adds every sum in the one-process order (tests/coupling/
+// boundary on 2 and 4; oversubscribed: CI has 2 cores), writes the same time series as the plain
+// run, byte for byte, and VTK pieces whose values are the plain run's. Exact equality is the right
+// check: a split run adds every sum in the one-process order (tests/coupling/
 // test_split_simulation.cpp), so a difference is a lost message or a reordered sum. A malformed
 // case under mpirun is reported once, and every process exits with the input-error status. A run
 // stopped under mpirun continues from its checkpoint parts under the same number of processes.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -18,10 +20,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "support/vtk_reader.hpp"
 
 namespace test_mpi_run_cli {
 
@@ -68,8 +72,47 @@ std::string launcher(int ranks) {
          " --oversubscribe --allow-run-as-root -n " + std::to_string(ranks) + " ";
 }
 
+/// Every array of the pieces that `pvti` lists equals, value for value (as stored: the same bits),
+/// the one-process file `whole` at the piece's points. Returns the points compared.
+std::size_t expect_pieces_match(const fs::path& pvti, const fs::path& whole) {
+  namespace vtk = settle::test::vtk_reader;
+  const vtk::ParsedVtk one = vtk::parse_vtk(whole);
+  std::istringstream whole_extent(vtk::element_attributes(one.xml, "ImageData").at("WholeExtent"));
+  std::array<int, 6> w{};
+  for (int& v : w) whole_extent >> v;
+  const std::string index = vtk::read_bytes(pvti);
+  EXPECT_NE(vtk::element_attributes(index, "PImageData").at("WholeExtent").find("0 47 0 47 0 95"), std::string::npos);
+  static const std::regex piece_tag(R"re(<Piece Extent="([^"]*)" Source="([^"]*)"/>)re");
+  std::size_t compared = 0;
+  for (auto it = std::sregex_iterator(index.begin(), index.end(), piece_tag); it != std::sregex_iterator(); ++it) {
+    std::istringstream extent((*it)[1].str());
+    std::array<int, 6> e{};
+    for (int& v : e) extent >> v;
+    const vtk::ParsedVtk piece = vtk::parse_vtk(pvti.parent_path() / (*it)[2].str());
+    for (const vtk::ParsedArray& array : piece.arrays) {
+      if (array.section != "PointData") continue;
+      const vtk::ParsedArray& reference = one.array(array.name);
+      const std::size_t value_bytes = vtk::type_size(array.type) * static_cast<std::size_t>(array.components);
+      std::size_t k = 0, differing = 0;
+      for (int z = e[4]; z <= e[5]; ++z)
+        for (int y = e[2]; y <= e[3]; ++y)
+          for (int x = e[0]; x <= e[1]; ++x, ++k) {
+            const std::size_t g = static_cast<std::size_t>(x) +
+                                  static_cast<std::size_t>(w[1] + 1) *
+                                      (static_cast<std::size_t>(y) + static_cast<std::size_t>(w[3] + 1) * z);
+            if (array.bytes.compare(k * value_bytes, value_bytes, reference.bytes, g * value_bytes, value_bytes) != 0)
+              ++differing;
+          }
+      EXPECT_EQ(differing, 0u) << array.name << " in " << (*it)[2].str();
+      EXPECT_EQ(k * value_bytes, array.bytes.size()) << array.name;
+      compared += k;
+    }
+  }
+  return compared;
+}
+
 /// Runs `case_text` plainly and under mpirun with each of `process_counts`: the same time series
-/// and VTK files, byte for byte.
+/// and surface files, byte for byte, and fluid pieces holding the one-process file's values.
 void expect_mpi_runs_as_plain(const std::string& name, const std::string& case_text,
                               const std::vector<int>& process_counts) {
   const fs::path case_path = write_scratch_case(name, case_text);
@@ -87,13 +130,28 @@ void expect_mpi_runs_as_plain(const std::string& name, const std::string& case_t
                                 " --threads 1 --quiet > " + scratch("mpi_out").string() + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << read_text(scratch("mpi_out"));
     EXPECT_EQ(read_text(dir / "timeseries.csv"), series);
-    // The fields, gathered on rank 0, written as the one-process run writes them.
-    int vtk_files = 0;
-    for (const auto& entry : fs::directory_iterator(plain / "vtk")) {
-      EXPECT_EQ(read_text(dir / "vtk" / entry.path().filename()), read_text(entry.path())) << entry.path().filename();
-      ++vtk_files;
+    if (ranks == 1) {  // a run of one process writes the plain run's files
+      for (const auto& entry : fs::directory_iterator(plain / "vtk"))
+        EXPECT_EQ(read_text(dir / "vtk" / entry.path().filename()), read_text(entry.path())) << entry.path().filename();
+      fs::remove_all(dir);
+      continue;
     }
-    EXPECT_EQ(vtk_files, 10);  // fluid and surface at t = 0, 0.01, 0.02, 0.03 and their two .pvd
+    // The surface as one process writes it; the fluid as a piece per rank whose values are the
+    // one-process file's at the piece's points (four arrays, 48 x 48 x 96 points with the shared
+    // layers of the pieces counted twice).
+    for (int k = 0; k < 4; ++k) {
+      const std::string index = fmt::format("{:06d}", k);
+      const std::string surface = "surface_" + index + ".vtp";
+      EXPECT_EQ(read_text(dir / "vtk" / surface), read_text(plain / "vtk" / surface)) << surface;
+      const std::size_t points =
+          expect_pieces_match(dir / "vtk" / ("fluid_" + index + ".pvti"), plain / "vtk" / ("fluid_" + index + ".vti"));
+      EXPECT_EQ(points, 4u * 48 * 48 * (96 + static_cast<std::size_t>(ranks) - 1)) << index;
+    }
+    EXPECT_EQ(read_text(dir / "vtk" / "surface.pvd"), read_text(plain / "vtk" / "surface.pvd"));
+    std::string fluid_pvd = read_text(plain / "vtk" / "fluid.pvd");
+    for (std::size_t at = fluid_pvd.find(".vti\""); at != std::string::npos; at = fluid_pvd.find(".vti\"", at))
+      fluid_pvd.replace(at, 5, ".pvti\"");
+    EXPECT_EQ(read_text(dir / "vtk" / "fluid.pvd"), fluid_pvd);
     EXPECT_TRUE(fs::exists(dir / "summary.json"));
     fs::remove_all(dir);
   }
