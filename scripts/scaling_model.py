@@ -7,8 +7,9 @@ the weak-scaling efficiency for 64 to 1024 processes on a cluster network:
 
   every process holds a cube of B^3 cells (its share of a lattice that grows with N) and steps it
   at R cell updates per second; with a 3-D split it exchanges with 6 face neighbours (and 12 edge
-  neighbours for D3Q19, plus 8 corners for D3Q27); the messages are not overlapped with the
-  update (settle does not yet), so a step takes
+  neighbours for D3Q19, plus 8 corners for D3Q27); the messages' time is counted in full, as if
+  none of it were hidden behind the interior update (settle posts them before it, but no gain was
+  measurable on one machine), so a step takes
 
     t(N) = B^3 / R + n_msg alpha + halo_bytes / beta + t_body(N) + t_agree(N)
 

@@ -70,6 +70,7 @@ class AaSolver final : public Solver {
                                             config.split.value_or(unsplit({config.nx, config.ny, config.nz})));
     lists_ = std::move(block.local);
     halo_ = std::move(block.halo);
+    split_rows();
     for (auto& component : force_) component = AlignedArray<Real>(cell_count());
     rates_ = config.collision == CollisionKind::trt ? trt_rates(config.tau, config.magic)
                                                     : RelaxationRates{1.0 / config.tau, 1.0 / config.tau};
@@ -96,14 +97,32 @@ class AaSolver final : public Solver {
 
   void begin_step(HaloMessages& messages) override {
     begin_local();
-    messages.send.resize(halo_.size());
-    for (std::size_t k = 0; k < halo_.size(); ++k) {
-      if (odd_parity()) {
-        pack<true>(halo_[k].send.fold, halo_[k].send.fold_shifted, messages.send[k]);
-      } else {
-        pack<false>(halo_[k].send.fill, halo_[k].send.fill_shifted, messages.send[k]);
-      }
+    pack_messages(messages);
+  }
+
+  void begin_step_faces(HaloMessages& messages) override {
+    if (odd_parity()) {
+      run_kernel_rows<true>(face_rows_);
+    } else {
+      run_kernel_rows<false>(face_rows_);
     }
+    pack_messages(messages);
+  }
+
+  void step_interior() override {
+    if (odd_parity()) {
+      run_kernel_rows<true>(interior_rows_);
+      apply<true>(lists_.fold, lists_.fold_shifted);
+    } else {
+      run_kernel_rows<false>(interior_rows_);
+      apply<false>(lists_.fill, lists_.fill_shifted);
+    }
+  }
+
+  std::vector<std::size_t> halo_receive_counts() const override {
+    std::vector<std::size_t> counts;
+    for (const HaloLinks& h : halo_) counts.push_back(odd_parity() ? h.fold_receive.size() : h.fill_receive.size());
+    return counts;
   }
 
   void end_step(const HaloMessages& messages) override {
@@ -424,6 +443,17 @@ class AaSolver final : public Solver {
     pending_shift_.reset();
   }
 
+  void pack_messages(HaloMessages& messages) const {
+    messages.send.resize(halo_.size());
+    for (std::size_t k = 0; k < halo_.size(); ++k) {
+      if (odd_parity()) {
+        pack<true>(halo_[k].send.fold, halo_[k].send.fold_shifted, messages.send[k]);
+      } else {
+        pack<false>(halo_[k].send.fill, halo_[k].send.fill_shifted, messages.send[k]);
+      }
+    }
+  }
+
   /// The values of a block's send entries (HaloLinks), each as the copy lists would store it.
   template <bool Odd>
   void pack(const std::vector<CopyEntry>& list, const std::vector<ShiftedCopyEntry>& shifted,
@@ -449,6 +479,49 @@ class AaSolver final : public Solver {
     }
   }
 
+  /// What every row of one kernel sweep shares: the population and force arrays, the lattice's
+  /// offsets and the relaxation rates.
+  struct KernelSweep {
+    Real* base;
+    const Real* force[3];
+    std::ptrdiff_t offsets[Q];
+    std::size_t stride;
+    double body[3];
+    RelaxationRates rates;
+  };
+
+  KernelSweep kernel_sweep() {
+    KernelSweep k{populations_.data(),
+                  {force_[0].data(), force_[1].data(), force_[2].data()},
+                  {},
+                  layout_.pop_stride,
+                  {config_.body_force.x(), config_.body_force.y(), config_.body_force.z()},
+                  rates_};
+    for (int i = 0; i < Q; ++i) k.offsets[i] = layout_.offset(L::set.c[i]);
+    return k;
+  }
+
+  template <bool Odd>
+  void kernel_row(const KernelSweep& k, int y, int z) const {
+    const int nx = config_.nx, ny = config_.ny;
+    const std::size_t row = layout_.index(0, y, z);
+    Real* src[Q];
+    Real* dst[Q];
+    for (int i = 0; i < Q; ++i) {
+      if constexpr (Odd) {
+        src[i] = k.base + static_cast<std::size_t>(opposite(i)) * k.stride + row - k.offsets[i];
+        dst[i] = k.base + static_cast<std::size_t>(i) * k.stride + row + k.offsets[i];
+      } else {
+        src[i] = k.base + static_cast<std::size_t>(i) * k.stride + row;
+        dst[i] = k.base + static_cast<std::size_t>(opposite(i)) * k.stride + row;
+      }
+    }
+    const std::size_t force_row =
+        static_cast<std::size_t>(nx) *
+        (static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z));
+    collide_row(src, dst, k.force[0] + force_row, k.force[1] + force_row, k.force[2] + force_row, nx, k.body, k.rates);
+  }
+
   /// The hot loop: one AA step over all interior cells. Rows of x are contiguous in every
   /// population array (the odd step's neighbour offsets are constant along a row), so the
   /// x loop in collide_row is a vectorised loop of unit-stride loads and stores; the lattice
@@ -457,37 +530,42 @@ class AaSolver final : public Solver {
   /// zmm instructions in the disassembly, see docs/lbm.md.
   template <bool Odd>
   void run_kernel() {
-    Real* const base = populations_.data();
-    const int ny = config_.ny, nz = config_.nz, nx = config_.nx;
-    const double body[3] = {config_.body_force.x(), config_.body_force.y(), config_.body_force.z()};
-    const RelaxationRates rates = rates_;
-    const Real* const fx = force_[0].data();
-    const Real* const fy = force_[1].data();
-    const Real* const fz = force_[2].data();
-    std::ptrdiff_t offsets[Q];
-    for (int i = 0; i < Q; ++i) offsets[i] = layout_.offset(L::set.c[i]);
-    const std::size_t stride = layout_.pop_stride;
+    const KernelSweep k = kernel_sweep();
+    const int ny = config_.ny, nz = config_.nz;
 #pragma omp parallel for collapse(2) schedule(static) if (threaded_)
     for (int z = 0; z < nz; ++z) {
-      for (int y = 0; y < ny; ++y) {
-        const std::size_t row = layout_.index(0, y, z);
-        Real* src[Q];
-        Real* dst[Q];
-        for (int i = 0; i < Q; ++i) {
-          if constexpr (Odd) {
-            src[i] = base + static_cast<std::size_t>(opposite(i)) * stride + row - offsets[i];
-            dst[i] = base + static_cast<std::size_t>(i) * stride + row + offsets[i];
-          } else {
-            src[i] = base + static_cast<std::size_t>(i) * stride + row;
-            dst[i] = base + static_cast<std::size_t>(opposite(i)) * stride + row;
-          }
-        }
-        const std::size_t force_row =
-            static_cast<std::size_t>(nx) *
-            (static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z));
-        collide_row(src, dst, fx + force_row, fy + force_row, fz + force_row, nx, body, rates);
-      }
+      for (int y = 0; y < ny; ++y) kernel_row<Odd>(k, y, z);
     }
+  }
+
+  /// The kernel on a list of rows (y + ny z): a block's face rows, then its interior rows, so that
+  /// its messages travel while the interior is updated. Every cell reads and writes only its own
+  /// slots in either parity, so the rows may run in any order with the same result.
+  template <bool Odd>
+  void run_kernel_rows(const std::vector<int>& rows) {
+    const KernelSweep k = kernel_sweep();
+    const int ny = config_.ny, count = static_cast<int>(rows.size());
+#pragma omp parallel for schedule(static) if (threaded_)
+    for (int n = 0; n < count; ++n)
+      kernel_row<Odd>(k, rows[static_cast<std::size_t>(n)] % ny, rows[static_cast<std::size_t>(n)] / ny);
+  }
+
+  /// The rows whose kernel results an adjacent block receives: those within kFaceRows of a face
+  /// the block shares with another block along y or z (a link's source cell is next to the face,
+  /// and an inlet's or outlet's value reads the moments of a cell one further in; a margin of
+  /// three covers both). A block cut along x has a face cell in every row: all rows are face rows.
+  void split_rows() {
+    face_rows_.clear(), interior_rows_.clear();
+    constexpr int kFaceRows = 3;
+    const int ny = config_.ny, nz = config_.nz;
+    const auto shares = [&](std::size_t axis, int side) { return has_block_beyond(axis, side, true); };
+    const bool all_faces = shares(0, 0) || shares(0, 1);
+    for (int z = 0; z < nz; ++z)
+      for (int y = 0; y < ny; ++y) {
+        const bool near = all_faces || (shares(1, 0) && y < kFaceRows) || (shares(1, 1) && y >= ny - kFaceRows) ||
+                          (shares(2, 0) && z < kFaceRows) || (shares(2, 1) && z >= nz - kFaceRows);
+        (near ? face_rows_ : interior_rows_).push_back(y + ny * z);
+      }
   }
 
   static void collide_row(Real* const (&src)[Q], Real* const (&dst)[Q], const Real* __restrict fx,
@@ -819,6 +897,9 @@ class AaSolver final : public Solver {
   /// Solid cells of adjacent blocks in the ghost layer (padded indices, ascending): where this
   /// block's links end across a block face.
   std::vector<std::size_t> ghost_solids_;
+  /// A block's rows (y + ny z) near the faces it shares with other blocks, and the rest
+  /// (split_rows).
+  std::vector<int> face_rows_, interior_rows_;
   std::optional<PendingShift> pending_shift_;
   RelaxationRates rates_;
   std::int64_t steps_ = 0;

@@ -154,6 +154,14 @@ class Solver {
   virtual std::vector<int> halo_ranks() const = 0;
   virtual void begin_step(HaloMessages& messages) = 0;
   virtual void end_step(const HaloMessages& messages) = 0;
+  /// begin_step in two parts, so that the messages can travel while the interior is updated:
+  /// begin_step_faces runs the kernel on the rows near the faces shared with other blocks and fills
+  /// messages.send; step_interior runs it on the other rows and copies the block's own faces. The
+  /// result is begin_step's, bit for bit.
+  virtual void begin_step_faces(HaloMessages& messages) = 0;
+  virtual void step_interior() = 0;
+  /// The length of the message each halo_ranks() entry sends this block in the coming step.
+  virtual std::vector<std::size_t> halo_receive_counts() const = 0;
 
   /// Sets every cell to the equilibrium of the given density and velocity. The stored
   /// momentum is rho u - F/2 with the force present now, so that velocity() returns u.

@@ -6,6 +6,23 @@
 #include <stdexcept>
 
 namespace settle::parallel {
+
+void Communicator::start_exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                                  const std::vector<std::size_t>&) {
+  if (pending_ranks_) throw std::logic_error("start_exchange: an exchange is already under way");
+  pending_ranks_ = &ranks;
+  pending_send_ = &send;
+}
+
+void Communicator::finish_exchange(std::vector<std::vector<double>>& receive) {
+  if (!pending_ranks_) throw std::logic_error("finish_exchange: no exchange was started");
+  const std::vector<int>& ranks = *pending_ranks_;
+  const std::vector<std::vector<double>>& send = *pending_send_;
+  pending_ranks_ = nullptr;
+  pending_send_ = nullptr;
+  exchange(ranks, send, receive);
+}
+
 namespace {
 
 class SingleProcess final : public Communicator {
@@ -81,6 +98,51 @@ class MpiWorld final : public Communicator {
     traffic_.exchange_seconds += MPI_Wtime() - start;
   }
 
+  // Receives and sends posted at once (MPI_Irecv with the lengths the receiving block expects,
+  // MPI_Isend), completed by finish_exchange: the transfer can proceed while the caller updates
+  // its interior. A message longer than expected fails (MPI's truncation error), a shorter one is
+  // caught by its count.
+  void start_exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                      const std::vector<std::size_t>& receive_counts) override {
+    if (send.size() != ranks.size() || receive_counts.size() != ranks.size())
+      throw std::invalid_argument("start_exchange: one message and one count per rank");
+    if (!requests_.empty()) throw std::logic_error("start_exchange: an exchange is already under way");
+    const double start = MPI_Wtime();
+    received_.assign(ranks.size(), {});
+    requests_.resize(2 * ranks.size());
+    for (std::size_t k = 0; k < ranks.size(); ++k) {
+      received_[k].resize(receive_counts[k]);
+      check(MPI_Irecv(received_[k].data(), static_cast<int>(receive_counts[k]), MPI_DOUBLE, ranks[k], kTag,
+                      MPI_COMM_WORLD, &requests_[k]),
+            "MPI_Irecv");
+    }
+    for (std::size_t k = 0; k < ranks.size(); ++k) {
+      check(MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
+                      &requests_[ranks.size() + k]),
+            "MPI_Isend");
+      traffic_.exchange_bytes_sent += send[k].size() * sizeof(double);
+    }
+    traffic_.exchange_messages_sent += send.size();
+    traffic_.exchange_seconds += MPI_Wtime() - start;
+  }
+
+  void finish_exchange(std::vector<std::vector<double>>& receive) override {
+    const double start = MPI_Wtime();
+    const std::size_t count = requests_.size() / 2;
+    std::vector<MPI_Status> statuses(requests_.size());
+    check(MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), statuses.data()), "MPI_Waitall");
+    requests_.clear();
+    for (std::size_t k = 0; k < count; ++k) {
+      int arrived = 0;
+      MPI_Get_count(&statuses[k], MPI_DOUBLE, &arrived);
+      if (static_cast<std::size_t>(arrived) != received_[k].size())
+        throw std::runtime_error("finish_exchange: a message is shorter than its receiver's halo");
+    }
+    receive = std::move(received_);
+    received_.clear();
+    traffic_.exchange_seconds += MPI_Wtime() - start;
+  }
+
   std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) override {
     const Stopwatch watch(traffic_, mine.size());
     const int count = static_cast<int>(mine.size());
@@ -127,6 +189,8 @@ class MpiWorld final : public Communicator {
  private:
   static constexpr int kTag = 17;
   int rank_ = 0, size_ = 1;
+  std::vector<MPI_Request> requests_;  ///< the receives, then the sends, of an exchange under way
+  std::vector<std::vector<double>> received_;
 };
 
 }  // namespace

@@ -31,6 +31,14 @@ class Communicator {
   /// when every message has arrived. Each pair of ranks exchanges at most one message per call.
   virtual void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
                         std::vector<std::vector<double>>& receive) = 0;
+  /// exchange() in two halves, so that the caller can work while the messages travel:
+  /// start_exchange posts them (`send` must stay alive and unchanged until finish_exchange
+  /// returns; `receive_counts[k]` is the length of the message ranks[k] sends), finish_exchange
+  /// waits for them and fills `receive`. One exchange at a time. By default the whole exchange
+  /// happens in finish_exchange.
+  virtual void start_exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                              const std::vector<std::size_t>& receive_counts);
+  virtual void finish_exchange(std::vector<std::vector<double>>& receive);
   /// Every rank's `mine`, in rank order, on every rank (the lengths may differ between ranks).
   virtual std::vector<std::vector<double>> gather_all(const std::vector<double>& mine) = 0;
   /// Every rank's `mine` in rank order on rank 0; nothing on the others (a field written by rank 0).
@@ -41,6 +49,11 @@ class Communicator {
 
  protected:
   Traffic traffic_;
+
+ private:
+  // The exchange started by the default start_exchange.
+  const std::vector<int>* pending_ranks_ = nullptr;
+  const std::vector<std::vector<double>>* pending_send_ = nullptr;
 };
 
 /// The element-wise sum of every rank's `mine` (all of one length), added in rank order on every

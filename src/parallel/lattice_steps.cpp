@@ -6,8 +6,11 @@ namespace settle::parallel {
 
 void step(lbm::Solver& block, Communicator& communicator) {
   lbm::HaloMessages messages;
-  block.begin_step(messages);
-  communicator.exchange(block.halo_ranks(), messages.send, messages.receive);
+  const std::vector<int> neighbours = block.halo_ranks();
+  block.begin_step_faces(messages);
+  communicator.start_exchange(neighbours, messages.send, block.halo_receive_counts());
+  block.step_interior();
+  communicator.finish_exchange(messages.receive);
   block.end_step(messages);
 }
 

@@ -7,7 +7,8 @@
 
 namespace settle::parallel {
 
-/// One collide-and-stream step of this rank's block.
+/// One collide-and-stream step of this rank's block: the rows near its shared faces first, their
+/// messages posted, then the interior while they travel (Solver::begin_step_faces).
 void step(lbm::Solver& block, Communicator& communicator);
 
 /// The moving window across every rank's block; the mass that left and entered the whole lattice,

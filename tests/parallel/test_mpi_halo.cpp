@@ -70,14 +70,10 @@ BlockAndWhole start(const lbm::SolverConfig& whole_config, const std::array<int,
 std::array<int, 2> run_block(const lbm::SolverConfig& whole_config, const std::array<int, 3>& blocks, int steps) {
   parallel::Communicator& world = parallel::world();
   auto [o, block, whole] = start(whole_config, blocks);
-  lbm::HaloMessages messages;
-  const std::vector<int> neighbours = block->halo_ranks();
   std::array<int, 2> differing{-1, -1};
   for (int s = 0; s < steps; ++s) {
     whole->step();
-    block->begin_step(messages);
-    world.exchange(neighbours, messages.send, messages.receive);
-    block->end_step(messages);
+    parallel::step(*block, world);  // the face rows, the messages posted, the interior, the rest
     if (s >= steps - 2)
       differing[static_cast<std::size_t>(s - (steps - 2))] = halo::differing_populations(*whole, *block, o);
   }

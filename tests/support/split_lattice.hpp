@@ -37,9 +37,12 @@ class SplitLattice {
     messages_.resize(solvers_.size());
   }
 
+  /// One step of every block as parallel::step takes it: the face rows and the messages, then the
+  /// interior while the messages are (here: have been) delivered, then the rest.
   void step() {
-    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->begin_step(messages_[r]);
+    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->begin_step_faces(messages_[r]);
     deliver();
+    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->step_interior();
     for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->end_step(messages_[r]);
   }
 
