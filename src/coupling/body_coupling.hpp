@@ -52,6 +52,8 @@ struct CouplingForces {
 
 /// Which coupling a case uses (numerics.coupling).
 enum class CouplingKind { immersed_boundary, momentum_exchange };
+/// The coupling of a case that names none; why this one: docs/coupling.md, "Couplings".
+inline constexpr CouplingKind kDefaultCoupling = CouplingKind::immersed_boundary;
 std::string to_string(CouplingKind kind);
 /// Throws settle::InputError naming `what` and the allowed names.
 CouplingKind parse_coupling(const std::string& name, const std::string& what);

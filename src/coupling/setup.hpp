@@ -49,7 +49,7 @@ struct SimulationSetup {
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
   lbm::Precision precision = lbm::Precision::float64;
-  CouplingKind coupling = CouplingKind::immersed_boundary;
+  CouplingKind coupling = kDefaultCoupling;
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "coupling/body_coupling.hpp"
+
 namespace settle::io {
 namespace {
 
@@ -34,6 +36,7 @@ KeySpec boolean(const char* path, bool def, const char* doc) {
 std::vector<KeySpec> declare() {
   const std::vector<std::string> walls{"no-slip", "free-slip", "periodic"};
   const std::vector<std::string> faces{"none", "x-", "x+", "y-", "y+", "z-", "z+"};
+  const std::string default_coupling = coupling::to_string(coupling::kDefaultCoupling);
   return {
       // [fluid]
       real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density (when given, overrides fluid.preset)"),
@@ -113,7 +116,7 @@ std::vector<KeySpec> declare() {
       choice("numerics.lattice", "D3Q19", {"D3Q19", "D3Q27"}, "lattice"),
       choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized"}, "collision model"),
       choice("numerics.precision", "double", {"double", "float"}, "storage precision of the populations"),
-      choice("numerics.coupling", "immersed_boundary", {"immersed_boundary", "momentum_exchange"},
+      choice("numerics.coupling", default_coupling.c_str(), {"immersed_boundary", "momentum_exchange"},
              "how the body meets the fluid: diffuse immersed boundary, or sharp-interface momentum exchange with "
              "interpolated bounce-back (docs/coupling.md, Couplings)"),
       choice("numerics.wall_rule", "bouzidi", {"bouzidi", "halfway"},

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "coupling/body_coupling.hpp"
 
 namespace test_bench_cli {
 
@@ -72,7 +73,7 @@ TEST(BenchCli, CaseReportsEverySubstepWithinTheStepsWallTime) {
   const auto cells = j["cells"].get<std::vector<long>>();
   ASSERT_EQ(cells.size(), 3u);
   EXPECT_EQ(j["cell_count"].get<long>(), cells[0] * cells[1] * cells[2]);
-  EXPECT_EQ(j["coupling"], "immersed_boundary");
+  EXPECT_EQ(j["coupling"], settle::coupling::to_string(settle::coupling::kDefaultCoupling));
   std::vector<std::string> names;
   double fluid_share = -1.0, outside_share = -1.0;
   for (const auto& s : j["substeps"]) {

@@ -291,7 +291,8 @@ TEST_F(MalformedInput, TiltedCuboidOverlapsAWallOnlyBecauseOfItsAttitude) {
 TEST_F(MalformedInput, ParticleTooCloseToAWallForTheForcingStencil) {
   // 0.1 mm of water under the sphere: no overlap, but the Roma kernel's stencil needs one cell
   // (0.125 mm) of fluid between the surface and the wall.
-  expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 6e-4]'", {"particle.position", "stencil"});
+  expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 6e-4]' --set 'numerics.coupling=\"immersed_boundary\"'",
+                     {"particle.position", "stencil"});
 }
 
 TEST_F(MalformedInput, ParticleInsideTheWallContactDistance) {

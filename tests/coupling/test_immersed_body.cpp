@@ -170,6 +170,7 @@ TEST(Bookkeeping, GridForceAndTorqueEqualMinusTheMarkerReaction) {
 
 SimulationSetup lattice_like_setup(body::MotionKind motion, const Eigen::Vector3d& velocity) {
   SimulationSetup s;
+  s.coupling = CouplingKind::immersed_boundary;
   s.shape = sphere(8.0);
   s.motion = motion;
   s.particle_density_si = 2.0;

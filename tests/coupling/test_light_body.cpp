@@ -58,9 +58,10 @@ std::shared_ptr<const body::Shape> sphere_shape(double diameter) {
 
 /// A body falling from rest in water, 8 cells per d_eq, the window following it: free-slip sides
 /// 2 d_eq from its axis, 3 d_eq of water ahead and 4 behind.
-SimulationSetup falling(std::shared_ptr<const body::Shape> shape, double density_ratio,
-                        const attitude::Attitude& start) {
+SimulationSetup falling(std::shared_ptr<const body::Shape> shape, double density_ratio, const attitude::Attitude& start,
+                        CouplingKind coupling = CouplingKind::immersed_boundary) {
   SimulationSetup s;
+  s.coupling = coupling;
   s.shape = std::move(shape);
   s.particle_density_si = density_ratio * kWaterDensity;
   s.fluid_density_si = kWaterDensity;
@@ -133,9 +134,9 @@ void expect_bounded_by_the_work_of_the_net_weight(const Fall& f, double duration
 
 // --- the cube
 
-void cube_stays_bounded(double density_ratio) {
+void cube_stays_bounded(double density_ratio, CouplingKind coupling = CouplingKind::immersed_boundary) {
   // Set-1 Euler angles of cases/cube.toml: no face or edge horizontal.
-  Simulation sim(falling(acrylic_cube_shape(), density_ratio, attitude::Attitude::from_set1(0.3, 0.5, 0.2)));
+  Simulation sim(falling(acrylic_cube_shape(), density_ratio, attitude::Attitude::from_set1(0.3, 0.5, 0.2), coupling));
   constexpr double kDuration = 0.1;  // s: 0.1 s of fall, about 600 steps at rho ratio 1.19
   const Fall f = fall_for(sim, kDuration);
   std::printf(
@@ -151,6 +152,12 @@ TEST(CouplingLightBody, AcrylicCubeAt8CellsStaysBoundedOverTheFirstTenthOfASecon
 }
 
 TEST(CouplingLightBody, CubeOnly5PercentDenserThanWaterAt8CellsStaysBounded) { cube_stays_bounded(1.05); }
+
+// The momentum exchange exerts the fluid's answer through the links and solid cells instead of the
+// markers: the same bound must hold for its explicit coupling.
+TEST(CouplingLightBody, CubeOnly5PercentDenserThanWaterStaysBoundedWithTheMomentumExchange) {
+  cube_stays_bounded(1.05, CouplingKind::momentum_exchange);
+}
 
 // --- the sphere
 

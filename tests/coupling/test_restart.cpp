@@ -38,6 +38,7 @@ namespace fs = std::filesystem;
 // threshold for OpenMP threads, so the threaded kernels are the ones checked.
 SimulationSetup settling_spheroid() {
   SimulationSetup s;
+  s.coupling = CouplingKind::immersed_boundary;  // MomentumExchangeContinuesBitForBit... covers the other
   body::ShapeSpec spec;
   spec.shape = "spheroid";
   spec.aspect_ratio = 2.0;

@@ -236,6 +236,32 @@ TEST(CaseSchema, EveryNumericsChoiceIsOneTheFluidSolverAccepts) {
     EXPECT_NO_THROW(lbm::parse_precision(name, "numerics.precision")) << name;
 }
 
+// A key that only the other coupling reads is reported when the case sets it away from its default
+// (it would change nothing); a resolved case, which writes every key at its value, is not.
+TEST(CaseSchema, KeysOfTheOtherCouplingAreReportedWhenSetAwayFromTheirDefault) {
+  const Schema& schema = case_schema();
+  const auto warnings_of = [&schema](const std::string& numerics) {
+    return unsupported_key_warnings(parse_case(schema, "[numerics]\n" + numerics, "case.toml"));
+  };
+  const auto halfway = warnings_of("coupling = \"immersed_boundary\"\nwall_rule = \"halfway\"\n");
+  ASSERT_EQ(halfway.size(), 1u);
+  EXPECT_NE(halfway[0].find("numerics.wall_rule"), std::string::npos) << halfway[0];
+  EXPECT_NE(halfway[0].find("momentum_exchange"), std::string::npos) << halfway[0];
+  EXPECT_EQ(warnings_of("coupling = \"momentum_exchange\"\nwall_rule = \"halfway\"\n").size(), 0u);
+
+  const auto interior = warnings_of(
+      "coupling = \"momentum_exchange\"\ninterior_markers = true\nforcing_iterations = 5\nmarker_retraction = 0.3\n");
+  ASSERT_EQ(interior.size(), 3u);
+  EXPECT_NE(interior[0].find("numerics.forcing_iterations"), std::string::npos) << interior[0];
+  EXPECT_NE(interior[1].find("numerics.marker_retraction"), std::string::npos) << interior[1];
+  EXPECT_NE(interior[2].find("numerics.interior_markers"), std::string::npos) << interior[2];
+  // Written at their defaults, as case.resolved.toml writes them: nothing to report.
+  EXPECT_EQ(warnings_of("coupling = \"momentum_exchange\"\ninterior_markers = false\nforcing_iterations = 3\n"
+                        "delta_kernel = \"roma3\"\n")
+                .size(),
+            0u);
+}
+
 // The user guide's key table is generated from the declaration (`settle schema --markdown`); a
 // key added, renamed or re-documented without regenerating the page fails here.
 TEST(CaseSchema, TheUserGuideHoldsTheCurrentKeyTable) {
