@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Float against double storage of the populations (`numerics.precision`): runs each case twice, the
-# same in everything else, and compares what a user reads from the runs: the terminal (or last)
-# settling speed, the drag coefficient, the largest settling speed, the settling speed over the
-# whole run (the largest difference at the times both runs wrote, over the larger run's largest
-# speed) and the path angle. A figure differing by more than 0.3% (0.1 degree for the angle) fails
-# the comparison (docs/performance.md, "Storage precision", says why 0.3%). NOT run in CI: the
-# default set takes about an hour on one core.
+# same in everything else, and compares the figures a user reads from the runs: the terminal (or
+# last) settling speed, the drag coefficient, the largest settling speed and the path angle. A
+# figure differing by more than 0.3% (0.1 degree for the angle) fails the comparison
+# (docs/performance.md, "Storage precision", says why 0.3%). Also printed, not judged: the settling
+# speed over the whole run (the largest difference at the times both runs wrote, over the larger
+# run's largest speed). Through a landing or a rocking transient it measures how the motion
+# amplifies any small difference: a cylinder moved by 1e-8 cells at the start, in double storage,
+# differs from the unmoved run by 0.29% there against float storage's 0.34% (docs/notes.md, "Float
+# storage against double"). NOT run in CI: the default set takes about an hour on one core.
 #
 #   scripts/validate_precision.sh [extra `settle run` arguments...]
 #   e.g. scripts/validate_precision.sh --set 'numerics.coupling="momentum_exchange"'
@@ -74,8 +77,8 @@ for item in sys.argv[1:]:
         ok = ok and d <= RELATIVE_BOUND
         print(f"| {name} | {label} | {a:.6g} | {b:.6g} | {100 * d:.3f}% | {walls} |")
     d = max(abs(ud[t] - uf[t]) for t in common) / largest
-    ok = ok and d <= RELATIVE_BOUND
-    print(f"| {name} | settling speed over {len(common)} common rows | | | {100 * d:.3f}% of the largest | {walls} |")
+    print(f"| {name} | settling speed over {len(common)} common rows (not judged) | | | {100 * d:.3f}% of the largest "
+          f"| {walls} |")
     ad, af = sd["lateral"]["path_angle_deg"], sf["lateral"]["path_angle_deg"]
     ok = ok and abs(af - ad) <= ANGLE_BOUND_DEG
     print(f"| {name} | path angle, deg | {ad:.3f} | {af:.3f} | {af - ad:+.3f} deg | {walls} |")

@@ -256,17 +256,19 @@ lbm::FieldExtrema Simulation::fluid_extrema() const {
   std::vector<double> packed{mine.finite ? 1.0 : 0.0, mine.min_density, mine.max_density, mine.max_speed};
   for (const auto* cell : {&mine.min_density_cell, &mine.max_density_cell, &mine.max_speed_cell})
     for (std::size_t a = 0; a < 3; ++a) packed.push_back((*cell)[a] + o[a]);
-  // In rank order with the rule of one block's rows (the first extreme wins a tie).
-  lbm::FieldExtrema all;
   const auto cell_at = [](const std::vector<double>& p, std::size_t first) {
     return std::array<int, 3>{static_cast<int>(p[first]), static_cast<int>(p[first + 1]),
                               static_cast<int>(p[first + 2])};
   };
+  // In rank order, with the rule of one block's rows.
+  lbm::FieldExtrema all;
   for (const std::vector<double>& p : communicator_.gather_all(packed)) {
-    all.finite = all.finite && p[0] != 0.0;
-    if (p[1] < all.min_density) all.min_density = p[1], all.min_density_cell = cell_at(p, 4);
-    if (p[2] > all.max_density) all.max_density = p[2], all.max_density_cell = cell_at(p, 7);
-    if (p[3] > all.max_speed) all.max_speed = p[3], all.max_speed_cell = cell_at(p, 10);
+    lbm::FieldExtrema block;
+    block.finite = p[0] != 0.0;
+    block.min_density = p[1], block.max_density = p[2], block.max_speed = p[3];
+    block.min_density_cell = cell_at(p, 4), block.max_density_cell = cell_at(p, 7),
+    block.max_speed_cell = cell_at(p, 10);
+    all.merge_later(block);
   }
   return all;
 }

@@ -289,12 +289,7 @@ class AaSolver final : public Solver {
   /// single-pass version did, so an all-rest field reports its first cell.
   static FieldExtrema reduce_rows(const std::vector<FieldExtrema>& rows) {
     FieldExtrema e;
-    for (const FieldExtrema& row : rows) {
-      e.finite = e.finite && row.finite;
-      if (row.min_density < e.min_density) e.min_density = row.min_density, e.min_density_cell = row.min_density_cell;
-      if (row.max_density > e.max_density) e.max_density = row.max_density, e.max_density_cell = row.max_density_cell;
-      if (row.max_speed > e.max_speed) e.max_speed = row.max_speed, e.max_speed_cell = row.max_speed_cell;
-    }
+    for (const FieldExtrema& row : rows) e.merge_later(row);
     return e;
   }
 

@@ -36,6 +36,15 @@ struct FieldExtrema {
   /// Interior cells (x, y, z) where each extreme sits (the first in x, y, z order on ties), so a
   /// failing health check can say where the fluid went wrong, not only how far.
   std::array<int, 3> min_density_cell{}, max_density_cell{}, max_speed_cell{};
+
+  /// Takes in the extremes of a part that comes after this one in x, y, z order (a row, a rank's
+  /// block): strictly more extreme values replace, so the first extreme keeps a tie.
+  void merge_later(const FieldExtrema& later) {
+    finite = finite && later.finite;
+    if (later.min_density < min_density) min_density = later.min_density, min_density_cell = later.min_density_cell;
+    if (later.max_density > max_density) max_density = later.max_density, max_density_cell = later.max_density_cell;
+    if (later.max_speed > max_speed) max_speed = later.max_speed, max_speed_cell = later.max_speed_cell;
+  }
 };
 
 /// Density and velocity of one cell (velocity includes Guo's half-force correction).
