@@ -79,6 +79,8 @@ for item in sys.argv[1:]:
     d = max(abs(ud[t] - uf[t]) for t in common) / largest
     print(f"| {name} | settling speed over {len(common)} common rows (not judged) | | | {100 * d:.3f}% of the largest "
           f"| {walls} |")
+    if "lateral" not in sd:  # a towed or fixed body: its path is prescribed
+        continue
     ad, af = sd["lateral"]["path_angle_deg"], sf["lateral"]["path_angle_deg"]
     ok = ok and abs(af - ad) <= ANGLE_BOUND_DEG
     print(f"| {name} | path angle, deg | {ad:.3f} | {af:.3f} | {af - ad:+.3f} deg | {walls} |")
