@@ -39,8 +39,8 @@ using settle::test::write_scratch_case;
 // tests/app/test_free_settling_cli.cpp's sphere (Re ~ 16), at 6 cells per diameter, with the
 // momentum exchange, in a window of 4 x 4 x 8 d (its physics is confined, but the check is bit-for-bit
 // equality, for which any window serves; a 24 x 24 x 48 grid keeps the test short under the
-// sanitizers), started at about its terminal speed so that the window shifts within the 0.03 s run
-// (the sphere falls several cells). The window holds it across z = 4 d, where 2 and 4 processes cut
+// sanitizers), started at about its terminal speed so that the window shifts within the 0.015 s run
+// (the sphere falls about 3 cells). The window holds it across z = 4 d, where 2 and 4 processes cut
 // the grid (1 x 1 x 2 and 1 x 1 x 4 blocks), so that its cells and links lie in two blocks.
 constexpr int kGridX = 24, kGridY = 24, kGridZ = 48;
 const char* kSphereCase = R"toml(
@@ -62,9 +62,9 @@ follow_particle = true
 cells_per_diameter = 6
 coupling = "momentum_exchange"
 [run]
-end_time = 0.03
+end_time = 0.015
 output_interval = 0
-vtk_interval = 0.01
+vtk_interval = 0.005
 )toml";
 
 // mpirun as CTest found it; leak detection off under the sanitizers (Open MPI's start-up
@@ -123,7 +123,7 @@ void expect_mpi_runs_as_plain(const std::string& name, const std::string& case_t
   const auto reference = run_settle("run", case_path.string() + " -o " + plain.string() + " --threads 1 --quiet");
   ASSERT_EQ(reference.status, 0) << reference.err;
   const std::string series = read_text(plain / "timeseries.csv");
-  ASSERT_GT(std::count(series.begin(), series.end(), '\n'), 200);  // every step of 0.03 s
+  ASSERT_GT(std::count(series.begin(), series.end(), '\n'), 100);  // every step of 0.015 s
   for (const int ranks : process_counts) {
     SCOPED_TRACE(std::to_string(ranks) + " processes");
     const fs::path dir = scratch(name + "_n" + std::to_string(ranks));
@@ -194,7 +194,7 @@ int rows_after(const fs::path& csv, double t) {
 // (t = 0.002 s), so that the signal lands mid-run however fast the machine steps the small grid.
 TEST(MpiRun, AStoppedRunContinuesUnderTheSameNumberOfProcesses) {
   std::string text = kSphereCase;
-  text.replace(text.find("end_time = 0.03"), 15, "end_time = 0.06");
+  text.replace(text.find("end_time = 0.015"), 16, "end_time = 0.03");
   const fs::path case_path = write_scratch_case("mpi_restart_sphere", text);
   const fs::path plain = scratch("mpi_restart_plain");
   ASSERT_EQ(run_settle("run", case_path.string() + " -o " + plain.string() + " --threads 1 --quiet").status, 0);
