@@ -33,7 +33,7 @@ namespace fs = std::filesystem;
 struct BenchOptions {
   std::string lattice = "D3Q19";
   std::string collision = "trt";
-  std::string precision = "double";
+  std::string precision = lbm::to_string(lbm::kDefaultPrecision);
   int size = 256;
   std::string case_file;               ///< --case: time this case's coupled step instead
   bool default_case = false;           ///< --default-case: the case `settle run` runs without a file

@@ -48,7 +48,7 @@ struct SimulationSetup {
   double cells_per_diameter = 16.0;
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
-  lbm::Precision precision = lbm::Precision::float64;
+  lbm::Precision precision = lbm::kDefaultPrecision;
   CouplingKind coupling = kDefaultCoupling;
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;

@@ -37,6 +37,7 @@ std::vector<KeySpec> declare() {
   const std::vector<std::string> walls{"no-slip", "free-slip", "periodic"};
   const std::vector<std::string> faces{"none", "x-", "x+", "y-", "y+", "z-", "z+"};
   const std::string default_coupling = coupling::to_string(coupling::kDefaultCoupling);
+  const std::string default_precision = lbm::to_string(lbm::kDefaultPrecision);
   return {
       // [fluid]
       real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density (when given, overrides fluid.preset)"),
@@ -115,7 +116,8 @@ std::vector<KeySpec> declare() {
            "grid cells per volume-equivalent diameter"),
       choice("numerics.lattice", "D3Q19", {"D3Q19", "D3Q27"}, "lattice"),
       choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized"}, "collision model"),
-      choice("numerics.precision", "double", {"double", "float"}, "storage precision of the populations"),
+      choice("numerics.precision", default_precision.c_str(), {"double", "float"},
+             "storage precision of the populations"),
       choice("numerics.coupling", default_coupling.c_str(), {"immersed_boundary", "momentum_exchange"},
              "how the body meets the fluid: diffuse immersed boundary, or sharp-interface momentum exchange with "
              "interpolated bounce-back (docs/coupling.md, Couplings)"),

@@ -64,7 +64,7 @@ struct MemoryEstimate {
 struct MemoryInputs {
   std::array<int, 3> cells{};
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
-  lbm::Precision precision = lbm::Precision::float64;
+  lbm::Precision precision = lbm::kDefaultPrecision;
   double body_box_cells = 0.0;             ///< cells of the box around the body (radius + stencil)
   double markers = 0.0;                    ///< surface and interior markers
   double samples = 0.0;                    ///< timeseries rows the run keeps in memory

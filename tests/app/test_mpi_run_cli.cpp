@@ -83,8 +83,8 @@ std::size_t expect_pieces_match(const fs::path& pvti, const fs::path& whole) {
   std::array<int, 6> w{};
   for (int& v : w) whole_extent >> v;
   const std::string index = vtk::read_bytes(pvti);
-  const std::string extent = fmt::format("0 {} 0 {} 0 {}", kGridX - 1, kGridY - 1, kGridZ - 1);
-  EXPECT_NE(vtk::element_attributes(index, "PImageData").at("WholeExtent").find(extent), std::string::npos);
+  const std::string grid_extent = fmt::format("0 {} 0 {} 0 {}", kGridX - 1, kGridY - 1, kGridZ - 1);
+  EXPECT_NE(vtk::element_attributes(index, "PImageData").at("WholeExtent").find(grid_extent), std::string::npos);
   static const std::regex piece_tag(R"re(<Piece Extent="([^"]*)" Source="([^"]*)"/>)re");
   std::size_t compared = 0;
   for (auto it = std::sregex_iterator(index.begin(), index.end(), piece_tag); it != std::sregex_iterator(); ++it) {

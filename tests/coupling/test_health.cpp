@@ -33,6 +33,9 @@ SimulationSetup small_setup() {
   s.body_force_si = Eigen::Vector3d(1e-6, 0.0, 0.0);
   s.end_time_si = 40.0;        // steps (dt = 1)
   s.output_interval_si = 4.0;  // even steps: where set_cell_populations may write
+  // Double storage: a planted density reads back to round-off (1e-12 below); float storage would
+  // round each population to 7 digits.
+  s.precision = settle::lbm::Precision::float64;
   return s;
 }
 
