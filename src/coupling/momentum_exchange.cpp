@@ -17,6 +17,20 @@ namespace {
 // What a refill needs of a neighbour cell: solid (1) or not, density, non-equilibrium part.
 constexpr std::size_t kNeighbourHeader = 2;
 
+/// The mean of the non-equilibrium parts (`f_neq`, sized) of the candidates whose direction lies
+/// at least `threshold` along the normal; zero when none does.
+void mean_of_closest(const std::vector<std::pair<double, const double*>>& candidates, double threshold,
+                     std::vector<double>& f_neq) {
+  std::fill(f_neq.begin(), f_neq.end(), 0.0);
+  int donors = 0;
+  for (const auto& [along, neq] : candidates) {
+    if (along < threshold) continue;
+    for (std::size_t i = 0; i < f_neq.size(); ++i) f_neq[i] += neq[i];
+    ++donors;
+  }
+  for (double& v : f_neq) v /= std::max(donors, 1);
+}
+
 }  // namespace
 
 BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
@@ -203,39 +217,40 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
     const Eigen::Vector3d normal = pose_.body_to_inertial * shape_->outward_normal(shape_->closest_surface_point(p_b));
     double density_sum = 0.0;
     int count = 0;
-    // The donor: a cell of this block, or one of another block's (remote).
-    std::optional<std::array<int, 3>> donor;
-    const NeighbourCell* remote_donor = nullptr;
+    // The donor of the non-equilibrium part: the fluid neighbour along the lattice direction
+    // closest to the normal. Directions tied to round-off (a normal halfway between two, as on the
+    // grid's mirror planes through the body) share the role equally: a first-found rule would give
+    // mirrored cells unmirrored refills, and a body on those planes a lateral force.
+    constexpr double kTie = 1e-12;
     double best = -2.0;
+    std::vector<std::pair<double, const double*>> candidates;  // (along the normal, f_neq)
+    std::vector<std::vector<double>> local_neq;
+    local_neq.reserve(q);
     for (std::size_t j = 1; j < q; ++j) {
       const auto y = view.wrap({x[0] + velocities[j][0], x[1] + velocities[j][1], x[2] + velocities[j][2]});
       if (!y || now_solid(*y)) continue;
-      const NeighbourCell* other = nullptr;
-      std::array<int, 3> yl{};
+      const double* neq = nullptr;
       if (view.owner(*y) == view.rank()) {
-        yl = view.to_block(*y);
+        const std::array<int, 3> yl = view.to_block(*y);
         if (fluid.is_solid(yl[0], yl[1], yl[2])) continue;
         density_sum += fluid.cell_density(yl[0], yl[1], yl[2]);
+        local_neq.emplace_back(q, 0.0);
+        fluid.non_equilibrium(yl[0], yl[1], yl[2], local_neq.back());
+        neq = local_neq.back().data();
       } else {
         const auto it = remote.find(view.index(*y));
         if (it == remote.end()) throw std::logic_error("momentum exchange: no data for a neighbour in another block");
-        other = &it->second;
-        if (other->solid) continue;
-        density_sum += other->density;
+        if (it->second.solid) continue;
+        density_sum += it->second.density;
+        neq = it->second.non_equilibrium.data();
       }
       ++count;
       const Eigen::Vector3d c(velocities[j][0], velocities[j][1], velocities[j][2]);
       const double along = c.normalized().dot(normal);
-      if (along > best) {
-        best = along;
-        remote_donor = other;
-        donor.reset();
-        if (!other) donor = yl;
-      }
+      best = std::max(best, along);
+      candidates.emplace_back(along, neq);
     }
-    std::fill(f_neq.begin(), f_neq.end(), 0.0);
-    if (donor) fluid.non_equilibrium((*donor)[0], (*donor)[1], (*donor)[2], f_neq);
-    if (remote_donor) f_neq = remote_donor->non_equilibrium;
+    mean_of_closest(candidates, best - kTie, f_neq);
     const Eigen::Vector3d u = pose_.velocity_at(Eigen::Vector3d(x[0], x[1], x[2]));
     fluid.refill_cell_with(local, count > 0 ? density_sum / count : 1.0, u, f_neq);
   }
