@@ -15,6 +15,7 @@ class Cuboid final : public Shape {
   bool contains(const Eigen::Vector3d& p) const override;
   /// Exact box distance: |max(q, 0)| + min(max_i q_i, 0) with q = |p| - size/2.
   double signed_distance(const Eigen::Vector3d& p) const override;
+  bool signed_distance_is_closed_form() const override { return true; }
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;
   double bounding_radius() const override { return 0.5 * size_.norm(); }

@@ -17,6 +17,7 @@ class Cylinder final : public Shape {
   bool contains(const Eigen::Vector3d& p) const override;
   /// Exact: the distance to the rectangle |rho| <= R, |z| <= L/2 in the meridian plane.
   double signed_distance(const Eigen::Vector3d& p) const override;
+  bool signed_distance_is_closed_form() const override { return true; }
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;
   double bounding_radius() const override;

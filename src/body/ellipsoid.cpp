@@ -18,14 +18,20 @@ namespace settle::body {
 namespace {
 
 // Root s of g(s) = sum_i (r_i z_i / (s + r_i))^2 - 1 in [lower, upper], g(lower) >= 0 >= g(upper).
-// g is decreasing and convex there, so Newton's method from a point where g > 0 climbs to the root
-// without overshooting it (each tangent meets zero before g does): quadratic near the root, about
-// 5-10 steps, against about 60 for bisection. The bracket [lo, hi] is kept throughout: a point
-// where g is not finite (lower can round onto the pole s = -r_i when z_i is below 1e-16) or
-// where round-off put g below zero is replaced by the bracket's midpoint, and where Newton crawls
-// (a start far below a steep root) the rest is bisected until the midpoint equals an end.
+// Newton's method runs on phi(s) = (g(s) + 1)^(-1/2) = 1 instead of on g: phi is the power mean
+// of order -2 of the (s + r_i) / (r_i z_i), linear in s, hence concave and increasing, and exactly
+// linear where one axis dominates. From any start its tangent lands at or below the root, and from
+// there Newton climbs to it without overshooting, quadratically near it. On g itself (convex with
+// a pole at -r_i) a start near the pole only gains a factor 1.5 per step: about 9 steps on average
+// at the default case's cut cells against 3 here (bench: BM_SpheroidSolidCells). The bracket
+// [lo, hi] is kept throughout: a trial point outside it, or where g is not finite (lower can
+// round onto the pole when z_i is below 1e-16), is replaced by the bracket's midpoint; after 40
+// trial points the rest is bisected until the midpoint equals an end.
 template <int N>
 double solve_multiplier(const std::array<double, N>& r, const std::array<double, N>& z, double lower, double upper) {
+  // Converged when a Newton step moves s by less than this fraction of s + 1 (the distance to the
+  // nearest pole, -r_i >= -1): the foot point then moves by about as little, relative to the axes.
+  constexpr double kConverged = 0x1p-50;
   const auto g_and_slope = [&](double s) {
     double g = -1.0, slope = 0.0;
     for (int i = 0; i < N; ++i) {
@@ -35,21 +41,25 @@ double solve_multiplier(const std::array<double, N>& r, const std::array<double,
     }
     return std::pair{g, slope};
   };
-  double lo = lower, hi = upper, s = lower;
+  double lo = lower, hi = upper;
+  double s = lower < 0.0 && upper > 0.0 ? 0.0 : lower;  // a point near the surface has its root near 0
   for (int step = 0; step < 40; ++step) {
     const auto [g, slope] = g_and_slope(s);
-    if (g > 0.0 && std::isfinite(g) && slope < 0.0 && std::isfinite(slope)) {
-      lo = s;
-      const double next = s - g / slope;
-      if (!(next > s)) return s;  // no further progress in double precision
-      s = std::min(next, hi);
-      continue;
-    }
     if (g == 0.0) return s;
-    if (g < 0.0) {
-      hi = s;
+    if (g > 0.0) {
+      lo = s;
     } else {
-      lo = s;  // at the pole (g infinite) or not defined: the root lies above
+      hi = s;
+    }
+    if (std::isfinite(g) && slope < 0.0 && std::isfinite(slope)) {
+      const double sum = g + 1.0;  // phi = sum^(-1/2), dphi/ds = -slope / (2 sum^(3/2))
+      const double delta = 2.0 * (1.0 - 1.0 / std::sqrt(sum)) * sum * std::sqrt(sum) / (-slope);
+      const double next = s + delta;
+      if (std::abs(delta) <= kConverged * (s + 1.0)) return std::clamp(next, lo, hi);
+      if (next > lo && next < hi) {
+        s = next;
+        continue;
+      }
     }
     const double mid = arithmetic_midpoint(lo, hi);
     if (mid == lo || mid == hi) return mid;

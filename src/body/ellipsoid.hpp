@@ -28,6 +28,7 @@ class Ellipsoid final : public Shape {
   /// (Eberly 2013, "Distance from a point to an ellipse, an ellipsoid, or a hyperellipsoid",
   /// Geometric Tools, which bisects throughout).
   double signed_distance(const Eigen::Vector3d& p) const override;
+  bool signed_distance_is_closed_form() const override { return is_sphere(); }
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;
   /// Closed form: the smaller root of a quadratic in the semi-axes' scaled coordinates.

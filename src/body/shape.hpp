@@ -52,6 +52,9 @@ class Shape {
   virtual bool contains(const Eigen::Vector3d& p) const = 0;
   /// Signed distance to the surface, negative inside.
   virtual double signed_distance(const Eigen::Vector3d& p) const = 0;
+  /// True when signed_distance is a closed form costing a few arithmetic operations (no root
+  /// search, no tree walk): callers then need no tabulated distance (body::DistanceTable).
+  virtual bool signed_distance_is_closed_form() const { return false; }
   /// The point of the surface nearest to p (projection onto the surface).
   virtual Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const = 0;
   /// Unit outward normal at a surface point (at edges and corners: one valid choice).

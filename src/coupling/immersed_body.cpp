@@ -1,5 +1,6 @@
 #include "coupling/immersed_body.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -32,6 +33,35 @@ void add_interior_markers(const body::Shape& shape, double dx_si, double depth_c
         markers.offset_b.push_back(p);
         markers.volume.push_back(1.0);
       }
+}
+
+// cell_state of each listed cell. Reading the list's bounding box a row at a time
+// (Solver::box_states) costs a fraction of cell-by-cell reads per cell; it pays while the list
+// fills at least a quarter of its box, as a body's cells do.
+std::vector<lbm::CellState> states_through_box(const lbm::Solver& solver,
+                                               const std::vector<std::array<int, 3>>& cells) {
+  std::vector<lbm::CellState> states(cells.size());
+  if (cells.empty()) return states;
+  CellBox box{cells.front(), {1, 1, 1}};
+  std::array<int, 3> upper = cells.front();
+  for (const auto& c : cells)
+    for (std::size_t a = 0; a < 3; ++a) {
+      box.origin[a] = std::min(box.origin[a], c[a]);
+      upper[a] = std::max(upper[a], c[a]);
+    }
+  for (std::size_t a = 0; a < 3; ++a) box.extent[a] = upper[a] - box.origin[a] + 1;
+  if (box.cell_count() > 4 * cells.size()) {
+    for (std::size_t n = 0; n < cells.size(); ++n) states[n] = solver.cell_state(cells[n][0], cells[n][1], cells[n][2]);
+    return states;
+  }
+  std::vector<double> rho(box.cell_count());
+  std::array<std::vector<double>, 3> u{rho, rho, rho};
+  solver.box_states(box.origin, box.extent, rho.data(), {u[0].data(), u[1].data(), u[2].data()});
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    const std::size_t i = box.index_of(cells[n]);
+    states[n] = {rho[i], Eigen::Vector3d(u[0][i], u[1][i], u[2][i])};
+  }
+  return states;
 }
 
 }  // namespace
@@ -94,10 +124,7 @@ std::vector<lbm::CellState> cell_states(const lbm::Solver& solver, const std::ve
                                         parallel::Communicator& ranks) {
   std::vector<lbm::CellState> states(cells.size());
   const LatticeView view(solver);
-  if (!view.split()) {
-    for (std::size_t n = 0; n < cells.size(); ++n) states[n] = solver.cell_state(cells[n][0], cells[n][1], cells[n][2]);
-    return states;
-  }
+  if (!view.split()) return states_through_box(solver, cells);
   // Each rank sends its cells' four values in list order; the owner of each cell says whose
   // message holds it next. Exact copies: every rank holds the owner's bits.
   constexpr std::size_t kValues = 4;
@@ -127,6 +154,11 @@ std::vector<lbm::CellState> cell_states(const lbm::Solver& solver, const std::ve
 
 ibm::LocalGrid gather(const lbm::Solver& solver, const CellBox& box, parallel::Communicator& ranks) {
   ibm::LocalGrid grid(box.origin, box.extent);
+  if (!LatticeView(solver).split()) {
+    solver.box_states(box.origin, box.extent, grid.rho.data(),
+                      {grid.velocity[0].data(), grid.velocity[1].data(), grid.velocity[2].data()});
+    return grid;
+  }
   const std::vector<lbm::CellState> states = cell_states(solver, cells_of(box), ranks);
   for (std::size_t c = 0; c < states.size(); ++c) {
     grid.rho[c] = states[c].density;
@@ -162,8 +194,13 @@ double SolidCells::volume() const {
   return v;
 }
 
-SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& box, const Eigen::Vector3d& centre,
-                       const Eigen::Matrix3d& body_to_inertial) {
+namespace {
+
+// solid_cells with the signed distance `distance(p_b, inside)` of a body-frame point (SI) whose
+// exact inside test gave `inside`.
+template <class Distance>
+SolidCells solid_cells_with(const body::Shape& shape, Distance&& distance, double dx_si, const CellBox& box,
+                            const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) {
   const Eigen::Matrix3d inertial_to_body = body_to_inertial.transpose();
   const std::array<int, 3> n{box.extent[0] + 1, box.extent[1] + 1, box.extent[2] + 1};
   const auto corner_index = [&](int i, int j, int k) {
@@ -214,7 +251,7 @@ SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& bo
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i)
         if (needed[corner_index(i, j, k)])
-          phi[corner_index(i, j, k)] = shape.signed_distance(corner_point_b(i, j, k)) / dx_si;
+          phi[corner_index(i, j, k)] = distance(corner_point_b(i, j, k), inside[corner_index(i, j, k)] != 0) / dx_si;
 
   SolidCells cells;
   std::size_t cell = 0;
@@ -234,6 +271,27 @@ SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& bo
         }
       }
   return cells;
+}
+
+}  // namespace
+
+SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& box, const Eigen::Vector3d& centre,
+                       const Eigen::Matrix3d& body_to_inertial) {
+  return solid_cells_with(
+      shape, [&](const Eigen::Vector3d& p, bool) { return shape.signed_distance(p); }, dx_si, box, centre,
+      body_to_inertial);
+}
+
+SolidCells solid_cells(const body::DistanceTable& table, double dx_si, const CellBox& box,
+                       const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) {
+  // The sign as the exact inside test says: next to the surface the interpolation may cross zero,
+  // and the cell's kind (solid, cut, fluid) and its corners must agree. Clamped to zero there, not
+  // mirrored, so that the value stays at or above the exact distance, as the table's is.
+  const auto distance = [&](const Eigen::Vector3d& p, bool inside) {
+    const double phi = table.signed_distance(p);
+    return inside ? std::min(phi, 0.0) : std::max(phi, 0.0);
+  };
+  return solid_cells_with(table.shape(), distance, dx_si, box, centre, body_to_inertial);
 }
 
 FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cells, const Eigen::Vector3d& centre,

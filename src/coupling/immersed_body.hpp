@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "body/distance_table.hpp"
 #include "body/shape.hpp"
 #include "ibm/forcing.hpp"
 #include "lbm/solver.hpp"
@@ -85,6 +86,11 @@ struct CellBox {
     return static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1]) *
            static_cast<std::size_t>(extent[2]);
   }
+  /// Index of a cell of the box in x-fastest order.
+  std::size_t index_of(const std::array<int, 3>& cell) const {
+    const auto at = [&](std::size_t a) { return static_cast<std::size_t>(cell[a] - origin[a]); };
+    return at(0) + static_cast<std::size_t>(extent[0]) * (at(1) + static_cast<std::size_t>(extent[1]) * at(2));
+  }
 };
 
 /// True when the box can be exchanged with the solver: on a periodic axis its extent is at most
@@ -118,6 +124,10 @@ struct SolidCells {
 };
 SolidCells solid_cells(const body::Shape& shape, double dx_si, const CellBox& box, const Eigen::Vector3d& centre,
                        const Eigen::Matrix3d& body_to_inertial);
+/// The same with the corners' signed distances interpolated from a table of the shape (the
+/// inside test stays exact, and gives each corner's sign).
+SolidCells solid_cells(const body::DistanceTable& table, double dx_si, const CellBox& box,
+                       const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial);
 
 /// Momentum and angular momentum (about `centre`) of the fluid inside the body, lattice units:
 /// sum alpha rho u and sum alpha (x - X_c) x rho u over the solid cells.

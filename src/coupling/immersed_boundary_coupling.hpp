@@ -5,6 +5,7 @@
 // fluid's force array; the hydrodynamic force as minus the marker forces plus the rate of change
 // of the momentum of the fluid inside the body (Kempe and Froehlich 2012), immersed_body.hpp.
 #include <memory>
+#include <optional>
 
 #include "coupling/body_coupling.hpp"
 #include "ibm/forcing.hpp"
@@ -39,12 +40,15 @@ class ImmersedBoundaryCoupling final : public BodyCoupling {
 
  private:
   FluidMomentum internal_momentum_at(const lbm::Solver& fluid, const LatticePose& pose) const;
+  SolidCells solid_cells_at(const LatticePose& pose, const CellBox& box) const;
 
   std::shared_ptr<const body::Shape> shape_;
   double dx_si_;
   CouplingOptions options_;
   parallel::Communicator& communicator_;
   BodyMarkers body_markers_;
+  /// The shape's signed distance for the volume fractions, tabulated unless it is a closed form.
+  std::optional<body::DistanceTable> distance_table_;
   // The step in progress: its pose, markers, box and forcing.
   LatticePose pose_;
   ibm::Markers markers_;

@@ -190,6 +190,30 @@ class AaSolver final : public Solver {
     return {m.rho, Eigen::Vector3d(m.ux, m.uy, m.uz)};
   }
 
+  void box_states(const std::array<int, 3>& origin, const std::array<int, 3>& extent, double* density,
+                  const std::array<double*, 3>& velocity) const override {
+    std::size_t n = 0;
+    for (int k = 0; k < extent[2]; ++k)
+      for (int j = 0; j < extent[1]; ++j, n += static_cast<std::size_t>(extent[0])) {
+        const int y = origin[1] + j, z = origin[2] + k;
+        const bool inside = origin[0] >= 0 && origin[0] + extent[0] <= config_.nx && y >= 0 && y < config_.ny &&
+                            z >= 0 && z < config_.nz;
+        for (int x0 = 0; x0 < extent[0]; x0 += kRowChunk) {
+          const int count = std::min(kRowChunk, extent[0] - x0);
+          const std::array<double*, 3> u{velocity[0] + n + x0, velocity[1] + n + x0, velocity[2] + n + x0};
+          if (inside) {
+            row_states({origin[0] + x0, y, z}, count, density + n + x0, u);
+            continue;
+          }
+          for (int i = 0; i < count; ++i) {
+            const CellState c = cell_state(origin[0] + x0 + i, y, z);
+            density[n + x0 + i] = c.density;
+            for (int a = 0; a < 3; ++a) u[a][i] = c.velocity[a];
+          }
+        }
+      }
+  }
+
   void cell_populations(int x, int y, int z, std::span<double> f) const override {
     if (f.size() < static_cast<std::size_t>(Q)) {
       throw std::invalid_argument("cell_populations: span holds fewer than Q values");
@@ -239,17 +263,17 @@ class AaSolver final : public Solver {
 
   std::vector<double> density_field() const override {
     std::vector<double> rho(cell_count());
-    for_each_cell_moments([&](std::size_t n, const Macroscopic<L>& m) { rho[n] = m.rho; });
+    for_each_cell_moments([&](std::size_t n, double density, double, double, double) { rho[n] = density; });
     return rho;
   }
 
   VectorField velocity_field() const override {
     VectorField u{std::vector<double>(cell_count()), std::vector<double>(cell_count()),
                   std::vector<double>(cell_count())};
-    for_each_cell_moments([&](std::size_t n, const Macroscopic<L>& m) {
-      u.x[n] = m.ux;
-      u.y[n] = m.uy;
-      u.z[n] = m.uz;
+    for_each_cell_moments([&](std::size_t n, double, double ux, double uy, double uz) {
+      u.x[n] = ux;
+      u.y[n] = uy;
+      u.z[n] = uz;
     });
     return u;
   }
@@ -266,18 +290,21 @@ class AaSolver final : public Solver {
         row.min_density = std::numeric_limits<double>::infinity();
         row.max_density = -std::numeric_limits<double>::infinity();
         double max_u2 = -1.0;
-        for (int x = 0; x < nx; ++x) {
-          if (solid_at(x, y, z)) continue;
-          double g[Q];
-          gather_shifted({x, y, z}, g);
-          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z), total_force(2, x, y, z)};
-          const Macroscopic<L> m = macroscopic<L>(g, F);
-          const double u2 = m.ux * m.ux + m.uy * m.uy + m.uz * m.uz;
-          // A NaN fails every comparison: test finiteness explicitly.
-          row.finite = row.finite && std::isfinite(m.rho) && std::isfinite(u2);
-          if (m.rho < row.min_density) row.min_density = m.rho, row.min_density_cell = {x, y, z};
-          if (m.rho > row.max_density) row.max_density = m.rho, row.max_density_cell = {x, y, z};
-          if (u2 > max_u2) max_u2 = u2, row.max_speed_cell = {x, y, z};
+        // The row's moments a chunk at a time (row_states: cell_state's values, read along the row).
+        double rho[kRowChunk], u[3][kRowChunk];
+        for (int x0 = 0; x0 < nx; x0 += kRowChunk) {
+          const int count = std::min(kRowChunk, nx - x0);
+          row_states({x0, y, z}, count, rho, {u[0], u[1], u[2]});
+          for (int i = 0; i < count; ++i) {
+            const int x = x0 + i;
+            if (solid_at(x, y, z)) continue;
+            const double u2 = u[0][i] * u[0][i] + u[1][i] * u[1][i] + u[2][i] * u[2][i];
+            // A NaN fails every comparison: test finiteness explicitly.
+            row.finite = row.finite && std::isfinite(rho[i]) && std::isfinite(u2);
+            if (rho[i] < row.min_density) row.min_density = rho[i], row.min_density_cell = {x, y, z};
+            if (rho[i] > row.max_density) row.max_density = rho[i], row.max_density_cell = {x, y, z};
+            if (u2 > max_u2) max_u2 = u2, row.max_speed_cell = {x, y, z};
+          }
         }
         row.max_speed = std::sqrt(max_u2);
       }
@@ -655,6 +682,50 @@ class AaSolver final : public Solver {
     }
   }
 
+  static constexpr int kRowChunk = 64;
+
+  /// cell_state of `count` <= kRowChunk consecutive interior cells of a row from `first`: each
+  /// direction's slots are read along the row, and each cell's sums run over the directions in
+  /// the order macroscopic() takes, so the values are bit for bit cell_state's.
+  void row_states(const std::array<int, 3>& first, int count, double* density,
+                  const std::array<double*, 3>& velocity) const {
+    double drho[kRowChunk], jx[kRowChunk], jy[kRowChunk], jz[kRowChunk];
+    const std::size_t row = layout_.index(first[0], first[1], first[2]);
+    const Real* source[Q];
+    for (int i = 0; i < Q; ++i)
+      source[i] = populations_.data() + (odd_parity() ? slot(opposite(i), upstream_of(row, i)) : slot(i, row));
+      // Vectorised across the row, each cell's sums in registers in macroscopic()'s order.
+#pragma omp simd
+    for (int x = 0; x < count; ++x) {
+      double d = 0.0, mx = 0.0, my = 0.0, mz = 0.0;
+#pragma GCC unroll 32
+      for (int i = 0; i < Q; ++i) {
+        const double g = static_cast<double>(source[i][x]);
+        d += g;
+        mx += double(L::set.c[i][0]) * g;
+        my += double(L::set.c[i][1]) * g;
+        mz += double(L::set.c[i][2]) * g;
+      }
+      drho[x] = d;
+      jx[x] = mx;
+      jy[x] = my;
+      jz[x] = mz;
+    }
+    const double* j[3] = {jx, jy, jz};
+    for (int x = 0; x < count; ++x) {
+      const int cx = first[0] + x;
+      if (solid_at(cx, first[1], first[2])) {
+        density[x] = 1.0;
+        for (int a = 0; a < 3; ++a) velocity[a][x] = 0.0;
+        continue;
+      }
+      const double rho = 1.0 + drho[x];
+      const double inv_rho = 1.0 / rho;
+      density[x] = rho;
+      for (int a = 0; a < 3; ++a) velocity[a][x] = (j[a][x] + 0.5 * total_force(a, cx, first[1], first[2])) * inv_rho;
+    }
+  }
+
   /// Padded index of the neighbour x - c_i of padded cell x (a ghost at the faces).
   std::size_t upstream_of(std::size_t cell, int i) const {
     return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(cell) - layout_.offset(L::set.c[i]));
@@ -669,21 +740,18 @@ class AaSolver final : public Solver {
     return config_.body_force[axis] + static_cast<double>(force_[axis][linear_index(x, y, z)]);
   }
 
+  /// visit(n, rho, u) for every cell (linear index n), cell_state's values (solid cells: rho 1, u 0).
   template <class Visit>
   void for_each_cell_moments(Visit&& visit) const {
     const int nx = config_.nx, ny = config_.ny, nz = config_.nz;
 #pragma omp parallel for collapse(2) schedule(static) if (threaded_)
     for (int z = 0; z < nz; ++z) {
       for (int y = 0; y < ny; ++y) {
-        for (int x = 0; x < nx; ++x) {
-          if (solid_at(x, y, z)) {
-            visit(linear_index(x, y, z), Macroscopic<L>{0.0, 1.0, 0.0, 0.0, 0.0});
-            continue;
-          }
-          double g[Q];
-          gather_shifted({x, y, z}, g);
-          const double F[3] = {total_force(0, x, y, z), total_force(1, x, y, z), total_force(2, x, y, z)};
-          visit(linear_index(x, y, z), macroscopic<L>(g, F));
+        double rho[kRowChunk], u[3][kRowChunk];
+        for (int x0 = 0; x0 < nx; x0 += kRowChunk) {
+          const int count = std::min(kRowChunk, nx - x0);
+          row_states({x0, y, z}, count, rho, {u[0], u[1], u[2]});
+          for (int i = 0; i < count; ++i) visit(linear_index(x0 + i, y, z), rho[i], u[0][i], u[1][i], u[2][i]);
         }
       }
     }

@@ -201,6 +201,11 @@ class Solver {
   virtual CellState cell_state(int x, int y, int z) const = 0;
   double cell_density(int x, int y, int z) const { return cell_state(x, y, z).density; }
   Eigen::Vector3d cell_velocity(int x, int y, int z) const { return cell_state(x, y, z).velocity; }
+  /// cell_state of every cell of the box [origin, origin + extent), x fastest, into density[n] and
+  /// velocity[a][n] (each holding the box's cell count): the same values as cell_state, read a row
+  /// at a time where the row lies inside the lattice, which is what the couplings' gathers need.
+  virtual void box_states(const std::array<int, 3>& origin, const std::array<int, 3>& extent, double* density,
+                          const std::array<double*, 3>& velocity) const = 0;
   /// The current post-streaming (pre-collision) populations f_i of a cell, whatever the AA
   /// parity; `f` must hold Q values (direction order of lbm/lattice.hpp).
   virtual void cell_populations(int x, int y, int z, std::span<double> f) const = 0;
