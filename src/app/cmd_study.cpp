@@ -151,9 +151,13 @@ void collect_command(const StudyCollectOptions& o) {
                  fit["coefficients"].dump().c_str(), fit["rms_residual"].get<double>(),
                  fit["max_residual"].get<double>());
   for (const auto& g : document["analyses"]["grid_convergence"])
-    std::fprintf(stderr, "grid convergence %s %s: order %s, extrapolated %s, GCI %s\n", g["inputs"].dump().c_str(),
+    std::fprintf(stderr, "grid convergence %s %s: order %s, extrapolated %s, GCI %s%s\n", g["inputs"].dump().c_str(),
                  g["figure"].get<std::string>().c_str(), g["observed_order"].dump().c_str(),
-                 g["extrapolated"].dump().c_str(), g["gci_fine"].dump().c_str());
+                 g["extrapolated"].dump().c_str(), g["gci_fine"].dump().c_str(),
+                 g["order_confirmed"].get<bool>() ? ""
+                 : g["oscillatory"].get<bool>()
+                     ? " (oscillatory: the order is not confirmed; GCI with safety factor 3)"
+                     : " (the order is not the scheme's 2: not confirmed; GCI with safety factor 3)");
   if (!o.plots) return;
   const fs::path script = find_script(kPlotScript, "settle study collect");
   const std::string python = find_python("settle study collect (or --no-plots)");

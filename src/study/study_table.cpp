@@ -117,6 +117,7 @@ json grid_convergence_json(const StudyTable& t) {
       entry["extrapolated"] = optional_number(g.extrapolated);
       entry["gci_fine"] = optional_number(g.gci_fine);
       entry["oscillatory"] = g.oscillatory;
+      entry["order_confirmed"] = g.order_confirmed;
       out.push_back(entry);
     }
   return out;
