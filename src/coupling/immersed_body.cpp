@@ -122,9 +122,9 @@ std::vector<std::array<int, 3>> cells_of(const CellBox& box) {
 
 std::vector<lbm::CellState> cell_states(const lbm::Solver& solver, const std::vector<std::array<int, 3>>& cells,
                                         parallel::Communicator& ranks) {
-  std::vector<lbm::CellState> states(cells.size());
   const LatticeView view(solver);
   if (!view.split()) return states_through_box(solver, cells);
+  std::vector<lbm::CellState> states(cells.size());
   // Each rank sends its cells' four values in list order; the owner of each cell says whose
   // message holds it next. Exact copies: every rank holds the owner's bits.
   constexpr std::size_t kValues = 4;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -209,6 +210,8 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
   const std::size_t q = velocities.size();
   const Eigen::Matrix3d to_body = pose_.body_to_inertial.transpose();
   std::vector<double> f_neq(q);
+  // The local neighbours' non-equilibrium parts, one row of q per neighbour, reused cell to cell.
+  std::vector<double> local_neq(q * q);
   for (const std::array<int, 3>& local : fluid.solid_cell_list()) {
     const std::array<int, 3> x = view.to_lattice(local);
     if (now_solid(x)) continue;
@@ -224,8 +227,6 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
     constexpr double kTie = 1e-12;
     double best = -2.0;
     std::vector<std::pair<double, const double*>> candidates;  // (along the normal, f_neq)
-    std::vector<std::vector<double>> local_neq;
-    local_neq.reserve(q);
     for (std::size_t j = 1; j < q; ++j) {
       const auto y = view.wrap({x[0] + velocities[j][0], x[1] + velocities[j][1], x[2] + velocities[j][2]});
       if (!y || now_solid(*y)) continue;
@@ -234,9 +235,9 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
         const std::array<int, 3> yl = view.to_block(*y);
         if (fluid.is_solid(yl[0], yl[1], yl[2])) continue;
         density_sum += fluid.cell_density(yl[0], yl[1], yl[2]);
-        local_neq.emplace_back(q, 0.0);
-        fluid.non_equilibrium(yl[0], yl[1], yl[2], local_neq.back());
-        neq = local_neq.back().data();
+        const std::span<double> row(local_neq.data() + j * q, q);
+        fluid.non_equilibrium(yl[0], yl[1], yl[2], row);
+        neq = row.data();
       } else {
         const auto it = remote.find(view.index(*y));
         if (it == remote.end()) throw std::logic_error("momentum exchange: no data for a neighbour in another block");

@@ -279,7 +279,7 @@ class AaSolver final : public Solver {
   }
 
   FieldExtrema extrema() const override {
-    const int nx = config_.nx, ny = config_.ny, nz = config_.nz;
+    const int ny = config_.ny, nz = config_.nz;
     // One partial result per row, reduced in row order afterwards: the same answer, locations
     // included, for every thread count (an OpenMP min/max reduction keeps no location).
     std::vector<FieldExtrema> rows(static_cast<std::size_t>(ny) * nz);
@@ -290,22 +290,15 @@ class AaSolver final : public Solver {
         row.min_density = std::numeric_limits<double>::infinity();
         row.max_density = -std::numeric_limits<double>::infinity();
         double max_u2 = -1.0;
-        // The row's moments a chunk at a time (row_states: cell_state's values, read along the row).
-        double rho[kRowChunk], u[3][kRowChunk];
-        for (int x0 = 0; x0 < nx; x0 += kRowChunk) {
-          const int count = std::min(kRowChunk, nx - x0);
-          row_states({x0, y, z}, count, rho, {u[0], u[1], u[2]});
-          for (int i = 0; i < count; ++i) {
-            const int x = x0 + i;
-            if (solid_at(x, y, z)) continue;
-            const double u2 = u[0][i] * u[0][i] + u[1][i] * u[1][i] + u[2][i] * u[2][i];
-            // A NaN fails every comparison: test finiteness explicitly.
-            row.finite = row.finite && std::isfinite(rho[i]) && std::isfinite(u2);
-            if (rho[i] < row.min_density) row.min_density = rho[i], row.min_density_cell = {x, y, z};
-            if (rho[i] > row.max_density) row.max_density = rho[i], row.max_density_cell = {x, y, z};
-            if (u2 > max_u2) max_u2 = u2, row.max_speed_cell = {x, y, z};
-          }
-        }
+        for_each_in_row(y, z, [&](int x, double rho, double ux, double uy, double uz) {
+          if (solid_at(x, y, z)) return;
+          const double u2 = ux * ux + uy * uy + uz * uz;
+          // A NaN fails every comparison: test finiteness explicitly.
+          row.finite = row.finite && std::isfinite(rho) && std::isfinite(u2);
+          if (rho < row.min_density) row.min_density = rho, row.min_density_cell = {x, y, z};
+          if (rho > row.max_density) row.max_density = rho, row.max_density_cell = {x, y, z};
+          if (u2 > max_u2) max_u2 = u2, row.max_speed_cell = {x, y, z};
+        });
         row.max_speed = std::sqrt(max_u2);
       }
     }
@@ -743,17 +736,26 @@ class AaSolver final : public Solver {
   /// visit(n, rho, u) for every cell (linear index n), cell_state's values (solid cells: rho 1, u 0).
   template <class Visit>
   void for_each_cell_moments(Visit&& visit) const {
-    const int nx = config_.nx, ny = config_.ny, nz = config_.nz;
+    const int ny = config_.ny, nz = config_.nz;
 #pragma omp parallel for collapse(2) schedule(static) if (threaded_)
     for (int z = 0; z < nz; ++z) {
       for (int y = 0; y < ny; ++y) {
-        double rho[kRowChunk], u[3][kRowChunk];
-        for (int x0 = 0; x0 < nx; x0 += kRowChunk) {
-          const int count = std::min(kRowChunk, nx - x0);
-          row_states({x0, y, z}, count, rho, {u[0], u[1], u[2]});
-          for (int i = 0; i < count; ++i) visit(linear_index(x0 + i, y, z), rho[i], u[0][i], u[1][i], u[2][i]);
-        }
+        for_each_in_row(y, z, [&](int x, double rho, double ux, double uy, double uz) {
+          visit(linear_index(x, y, z), rho, ux, uy, uz);
+        });
       }
+    }
+  }
+
+  /// visit(x, rho, ux, uy, uz) along the whole row (y, z), x ascending: cell_state's values
+  /// (solid cells: rho 1, u 0), read a chunk at a time by row_states.
+  template <class Visit>
+  void for_each_in_row(int y, int z, Visit&& visit) const {
+    double rho[kRowChunk], u[3][kRowChunk];
+    for (int x0 = 0; x0 < config_.nx; x0 += kRowChunk) {
+      const int count = std::min(kRowChunk, config_.nx - x0);
+      row_states({x0, y, z}, count, rho, {u[0], u[1], u[2]});
+      for (int i = 0; i < count; ++i) visit(x0 + i, rho[i], u[0][i], u[1][i], u[2][i]);
     }
   }
 
