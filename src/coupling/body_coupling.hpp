@@ -96,6 +96,7 @@ struct CouplingOptions {
   bool interior_markers = false;
   // momentum exchange
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
+  bool covered_cell_torque = false;  ///< docs/coupling.md, "The covered cells' spin"
 };
 
 /// The box of cells the coupling `options` chooses works on for a body at `centre` (lattice units)

@@ -111,6 +111,7 @@ CouplingOptions coupling_options(const SimulationSetup& setup) {
   options.marker_retraction_cells = setup.marker_retraction_cells;
   options.interior_markers = setup.interior_markers;
   options.wall_rule = setup.wall_rule;
+  options.covered_cell_torque = setup.covered_cell_torque;
   return options;
 }
 

@@ -92,6 +92,8 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       {"coupling (numerics.coupling)", static_cast<double>(static_cast<int>(s.coupling)), to_string(s.coupling)},
       {"wall rule (numerics.wall_rule)", static_cast<double>(static_cast<int>(s.wall_rule)),
        s.wall_rule == lbm::WallRule::bouzidi ? "bouzidi" : "halfway"},
+      {"covered cells' torque (numerics.covered_cell_torque)", s.covered_cell_torque ? 1.0 : 0.0,
+       s.covered_cell_torque ? "true" : "false"},
       face_entry("inflow face", s.inflow),
       number("inflow velocity x (lattice units)", c.inflow_velocity.x()),
       number("inflow velocity y (lattice units)", c.inflow_velocity.y()),

@@ -110,6 +110,7 @@ CellBox MomentumExchangeCoupling::box_at(const Eigen::Vector3d& centre, const Ei
 
 void MomentumExchangeCoupling::start(lbm::Solver& fluid, const LatticePose& pose) {
   previous_links_ = LatticeWrench{};
+  first_impose_ = true;
   // The fluid starts at rest inside the body too; the first impose makes those cells solid.
   place(fluid, pose);
 }
@@ -120,10 +121,16 @@ void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose
                                lbm::velocity_set(fluid.config().lattice), options_.wall_rule);
   const LatticeView view(fluid);
   whole_link_count_ = whole.obstacle.links.size();
-  whole_solids_.clear();
+  std::vector<std::pair<std::size_t, std::array<int, 3>>> solids;
   for (const auto& c : whole.obstacle.solid_cells)
-    if (const auto w = view.wrap(c)) whole_solids_.push_back(view.index(*w));
-  std::sort(whole_solids_.begin(), whole_solids_.end());
+    if (const auto w = view.wrap(c)) solids.emplace_back(view.index(*w), c);
+  std::sort(solids.begin(), solids.end());
+  whole_solids_.clear();
+  whole_solid_cells_.clear();
+  for (const auto& [n, c] : solids) {
+    whole_solids_.push_back(n);
+    if (options_.covered_cell_torque) whole_solid_cells_.push_back(c);
+  }
   link_index_.clear();
   if (!view.split()) {
     walls_ = std::move(whole);
@@ -257,7 +264,42 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
   }
 }
 
+Eigen::Vector3d MomentumExchangeCoupling::covered_cell_torque(const lbm::Solver& fluid) const {
+  const LatticeView view(fluid);
+  std::vector<double> mine;  // (whole-lattice index, torque) of each covered cell of this block
+  for (std::size_t k = 0; k < whole_solids_.size(); ++k) {
+    const std::array<int, 3>& c = whole_solid_cells_[k];
+    const std::array<int, 3> w = *view.wrap(c);
+    if (view.owner(w) != view.rank()) continue;
+    const std::array<int, 3> l = view.to_block(w);
+    if (fluid.is_solid(l[0], l[1], l[2])) continue;
+    const lbm::CellState s = fluid.cell_state(l[0], l[1], l[2]);
+    const Eigen::Vector3d x(c[0], c[1], c[2]);
+    const Eigen::Vector3d lag = s.density * (s.velocity - pose_.velocity_at(x));
+    const Eigen::Vector3d t = (x - pose_.centre).cross(lag);
+    mine.insert(mine.end(), {static_cast<double>(whole_solids_[k]), t.x(), t.y(), t.z()});
+  }
+  std::vector<std::pair<double, Eigen::Vector3d>> cells;
+  const auto add_part = [&cells](const std::vector<double>& part) {
+    for (std::size_t at = 0; at + 3 < part.size(); at += 4)
+      cells.emplace_back(part[at], Eigen::Vector3d(part[at + 1], part[at + 2], part[at + 3]));
+  };
+  if (view.split()) {
+    for (const std::vector<double>& part : communicator_.gather_all(mine)) add_part(part);
+  } else {
+    add_part(mine);
+  }
+  std::sort(cells.begin(), cells.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& cell : cells) sum += cell.second;
+  return sum;
+}
+
 void MomentumExchangeCoupling::impose(lbm::Solver& fluid) {
+  // The first impose turns the body's own cells solid: nothing is covered then.
+  covered_torque_ =
+      options_.covered_cell_torque && !first_impose_ ? covered_cell_torque(fluid) : Eigen::Vector3d::Zero();
+  first_impose_ = false;
   refill_uncovered(fluid);
   fluid.set_obstacle(walls_.obstacle);
 }
@@ -302,7 +344,7 @@ CouplingForces MomentumExchangeCoupling::measure(const lbm::Solver& fluid) {
   const LatticeWrench links = link_sum(fluid);
   CouplingForces f;
   f.surface.force = 0.5 * (links.force + previous_links_.force);
-  f.surface.torque = 0.5 * (links.torque + previous_links_.torque);
+  f.surface.torque = 0.5 * (links.torque + previous_links_.torque) + covered_torque_;
   previous_links_ = links;
   // A body force on the fluid stands for a mean pressure gradient, which pushes on the body's
   // volume too; inside an immersed boundary the enclosed fluid passes it on, here the solid

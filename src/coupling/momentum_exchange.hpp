@@ -22,7 +22,11 @@
 // uncovered cells carry is not added to the body's force (Wen et al. 2014 show that their
 // Galilean-invariant exchange leaves these terms' effect small; in Uhlmann and Dusek's case B,
 // adding them in balance left the path as it was: docs/notes.md, 2026-11-26, "Case B's spin",
-// controls 9 and 10).
+// controls 9 and 10). With CouplingOptions::covered_cell_torque the torque does take, at the step
+// of covering, the angular momentum by which the covered cells' fluid lags the rigid motion, r x
+// rho (u - u_body): without it the resistance to spin is first order in the cell size and at 16
+// cells nearly absent at Re = 188; on the force the same term would spoil a drag that is right
+// without it (docs/coupling.md, "The covered cells' spin": an empirical choice).
 //
 // On a block of a split lattice (docs/parallel.md) every rank finds the body's walls on the whole
 // lattice and keeps its part: its own solid cells, those of adjacent blocks in its ghost layer, and
@@ -92,6 +96,10 @@ class MomentumExchangeCoupling final : public BodyCoupling {
     std::vector<double> non_equilibrium;
   };
   void refill_uncovered(lbm::Solver& fluid) const;
+  /// Sum over the cells the body covers at this step (solid at this pose, fluid until now) of
+  /// r x rho (u - u_body(x)) about the centre, in the whole lattice's cell order (the same bits for
+  /// any number of ranks); CouplingOptions::covered_cell_torque.
+  Eigen::Vector3d covered_cell_torque(const lbm::Solver& fluid) const;
   /// The cells of other blocks in this block's ghost layer within the body's box (by their index on
   /// the whole lattice), from an exchange with the adjacent blocks.
   std::unordered_map<std::size_t, NeighbourCell> neighbour_cells(const lbm::Solver& fluid) const;
@@ -111,6 +119,12 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   std::vector<std::size_t> whole_solids_;
   std::size_t whole_link_count_ = 0;
   LatticeWrench previous_links_;
+  /// With covered_cell_torque: the whole lattice's solid cells, unwrapped, in the order of
+  /// whole_solids_; the covered cells' torque of this step; whether the next impose is the one that
+  /// first makes the body solid (its cells are the body's own, not covered fluid).
+  std::vector<std::array<int, 3>> whole_solid_cells_;
+  Eigen::Vector3d covered_torque_ = Eigen::Vector3d::Zero();
+  bool first_impose_ = true;
 };
 
 }  // namespace settle::coupling

@@ -57,7 +57,8 @@ std::vector<std::string> coupling_key_warnings(const CaseValues& v) {
   static constexpr std::array<std::string_view, 4> kImmersedBoundaryKeys{
       "numerics.delta_kernel", "numerics.forcing_iterations", "numerics.marker_retraction",
       "numerics.interior_markers"};
-  static constexpr std::array<std::string_view, 1> kMomentumExchangeKeys{"numerics.wall_rule"};
+  static constexpr std::array<std::string_view, 2> kMomentumExchangeKeys{"numerics.wall_rule",
+                                                                         "numerics.covered_cell_torque"};
   const auto kind = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
   const bool immersed = kind == coupling::CouplingKind::immersed_boundary;
   const auto other = immersed ? coupling::CouplingKind::momentum_exchange : coupling::CouplingKind::immersed_boundary;
@@ -248,6 +249,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
   s.coupling = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
   s.wall_rule = v.string("numerics.wall_rule") == "halfway" ? lbm::WallRule::halfway : lbm::WallRule::bouzidi;
+  s.covered_cell_torque = v.boolean("numerics.covered_cell_torque");
   s.kernel = ibm::delta_kernel_from_string(v.string("numerics.delta_kernel"), "numerics.delta_kernel");
   s.forcing_iterations = static_cast<int>(v.integer("numerics.forcing_iterations"));
   s.interior_markers = v.boolean("numerics.interior_markers");
