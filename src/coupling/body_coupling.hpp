@@ -54,6 +54,9 @@ struct CouplingForces {
 enum class CouplingKind { immersed_boundary, momentum_exchange };
 /// The coupling of a case that names none; why this one: docs/coupling.md, "Couplings".
 inline constexpr CouplingKind kDefaultCoupling = CouplingKind::immersed_boundary;
+/// Whether the momentum exchange gives the body the angular momentum the covered cells' fluid
+/// lacks (numerics.covered_cell_torque; docs/coupling.md, "The covered cells' spin").
+inline constexpr bool kDefaultCoveredCellTorque = true;
 std::string to_string(CouplingKind kind);
 /// Throws settle::InputError naming `what` and the allowed names.
 CouplingKind parse_coupling(const std::string& name, const std::string& what);
@@ -96,7 +99,7 @@ struct CouplingOptions {
   bool interior_markers = false;
   // momentum exchange
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
-  bool covered_cell_torque = false;  ///< docs/coupling.md, "The covered cells' spin"
+  bool covered_cell_torque = kDefaultCoveredCellTorque;
 };
 
 /// The box of cells the coupling `options` chooses works on for a body at `centre` (lattice units)

@@ -295,11 +295,21 @@ Eigen::Vector3d MomentumExchangeCoupling::covered_cell_torque(const lbm::Solver&
   return sum;
 }
 
+bool MomentumExchangeCoupling::lattice_has_solid_cells(const lbm::Solver& fluid) const {
+  const double mine = static_cast<double>(fluid.solid_cell_count());
+  if (!LatticeView(fluid).split()) return mine > 0.0;
+  for (const std::vector<double>& part : communicator_.gather_all({mine}))
+    if (!part.empty() && part[0] > 0.0) return true;
+  return false;
+}
+
 void MomentumExchangeCoupling::impose(lbm::Solver& fluid) {
-  // The first impose turns the body's own cells solid: nothing is covered then.
-  covered_torque_ =
-      options_.covered_cell_torque && !first_impose_ ? covered_cell_torque(fluid) : Eigen::Vector3d::Zero();
+  // A fresh start's first impose turns the body's own cells solid: nothing is covered then. A
+  // restored run's fluid already holds them, and its first impose covers cells as any other does.
+  bool count = options_.covered_cell_torque;
+  if (count && first_impose_) count = lattice_has_solid_cells(fluid);
   first_impose_ = false;
+  covered_torque_ = count ? covered_cell_torque(fluid) : Eigen::Vector3d::Zero();
   refill_uncovered(fluid);
   fluid.set_obstacle(walls_.obstacle);
 }

@@ -100,6 +100,8 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   /// r x rho (u - u_body(x)) about the centre, in the whole lattice's cell order (the same bits for
   /// any number of ranks); CouplingOptions::covered_cell_torque.
   Eigen::Vector3d covered_cell_torque(const lbm::Solver& fluid) const;
+  /// Whether any block of the lattice holds solid cells (every rank must call it).
+  bool lattice_has_solid_cells(const lbm::Solver& fluid) const;
   /// The cells of other blocks in this block's ghost layer within the body's box (by their index on
   /// the whole lattice), from an exchange with the adjacent blocks.
   std::unordered_map<std::size_t, NeighbourCell> neighbour_cells(const lbm::Solver& fluid) const;
@@ -120,8 +122,8 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   std::size_t whole_link_count_ = 0;
   LatticeWrench previous_links_;
   /// With covered_cell_torque: the whole lattice's solid cells, unwrapped, in the order of
-  /// whole_solids_; the covered cells' torque of this step; whether the next impose is the one that
-  /// first makes the body solid (its cells are the body's own, not covered fluid).
+  /// whole_solids_; the covered cells' torque of this step; whether no impose has run yet (the
+  /// first may be the one that makes the body's own cells solid: they are not covered fluid).
   std::vector<std::array<int, 3>> whole_solid_cells_;
   Eigen::Vector3d covered_torque_ = Eigen::Vector3d::Zero();
   bool first_impose_ = true;

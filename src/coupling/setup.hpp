@@ -50,8 +50,8 @@ struct SimulationSetup {
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
   lbm::Precision precision = lbm::kDefaultPrecision;
   CouplingKind coupling = kDefaultCoupling;
-  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
-  bool covered_cell_torque = false;                  ///< momentum exchange only
+  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;      ///< momentum exchange only
+  bool covered_cell_torque = kDefaultCoveredCellTorque;  ///< momentum exchange only
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;
   double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md

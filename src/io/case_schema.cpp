@@ -124,7 +124,7 @@ std::vector<KeySpec> declare() {
       choice("numerics.wall_rule", "bouzidi", {"bouzidi", "halfway"},
              "momentum exchange: bounce-back interpolated at the true surface (bouzidi), or half-way on the cells' "
              "faces (halfway, a staircase)"),
-      boolean("numerics.covered_cell_torque", false,
+      boolean("numerics.covered_cell_torque", coupling::kDefaultCoveredCellTorque,
               "momentum exchange: the body also takes the angular momentum by which the fluid of the cells it "
               "covers lags its rotation (docs/coupling.md)"),
       choice("numerics.delta_kernel", "roma3", {"roma3", "peskin4"}, "immersed-boundary delta kernel"),
