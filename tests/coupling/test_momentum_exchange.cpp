@@ -23,21 +23,29 @@ struct Crossing {
   LatticePose pose;
 };
 
-// dx = 1 m, so lattice and SI lengths agree; a sphere of 8 cells towed at (0.03, 0.02, -0.04)
-// cells per step through a periodic 24-cell box at tau = 0.6.
-Crossing towed_sphere() {
-  body::ShapeSpec spec;
-  spec.shape = "sphere";
-  spec.diameter = 8.0;
-  std::shared_ptr<const body::Shape> shape(body::make_shape(spec));
+// dx = 1 m, so lattice and SI lengths agree: a sphere of 8 cells in a periodic 24-cell box at
+// tau = 0.6, coupled by the momentum exchange.
+std::unique_ptr<lbm::Solver> box_fluid() {
   lbm::SolverConfig config;
   config.nx = config.ny = config.nz = 24;
   config.tau = 0.6;
+  return lbm::make_solver(config);
+}
+
+std::unique_ptr<BodyCoupling> sphere_coupling(bool covered_cell_torque) {
+  body::ShapeSpec spec;
+  spec.shape = "sphere";
+  spec.diameter = 8.0;
   CouplingOptions options;
   options.kind = CouplingKind::momentum_exchange;
-  // The link sums alone: the covered cells' term is the impose's (its restart: RestartTest).
-  options.covered_cell_torque = false;
-  Crossing c{lbm::make_solver(config), make_coupling(shape, 1.0, options), {}};
+  options.covered_cell_torque = covered_cell_torque;
+  return make_coupling(std::shared_ptr<const body::Shape>(body::make_shape(spec)), 1.0, options);
+}
+
+// The sphere towed at (0.03, 0.02, -0.04) cells per step. The link sums alone: the covered cells'
+// term is the impose's (its restart: RestartTest).
+Crossing towed_sphere() {
+  Crossing c{box_fluid(), sphere_coupling(false), {}};
   c.pose.centre = Eigen::Vector3d(12.2, 11.7, 12.4);
   c.pose.velocity = Eigen::Vector3d(0.03, 0.02, -0.04);
   c.coupling->start(*c.fluid, c.pose);
@@ -74,14 +82,7 @@ TEST(MomentumExchangeForce, ARestoredCouplingCarriesThePreviousStepsSum) {
   Eigen::Vector3d sum;
   for (int n = 0; n < 5; ++n) step(a, &sum);
   // A second coupling on the same fluid, started at the same pose, given a's carried state.
-  body::ShapeSpec spec;
-  spec.shape = "sphere";
-  spec.diameter = 8.0;
-  CouplingOptions options;
-  options.kind = CouplingKind::momentum_exchange;
-  options.covered_cell_torque = false;
-  std::unique_ptr<BodyCoupling> b =
-      make_coupling(std::shared_ptr<const body::Shape>(body::make_shape(spec)), 1.0, options);
+  std::unique_ptr<BodyCoupling> b = sphere_coupling(false);
   b->start(*a.fluid, a.pose);
   b->restore_carried_state(a.coupling->carried_state());
   a.pose.centre += a.pose.velocity;
@@ -95,21 +96,12 @@ TEST(MomentumExchangeForce, ARestoredCouplingCarriesThePreviousStepsSum) {
   EXPECT_EQ(from_a.torque, from_b.torque);
 }
 
-// A sphere of 8 cells spinning and moving through fluid at rest, displaced between two imposes with
+// The sphere, spinning and moving through fluid at rest, displaced between two imposes with
 // no fluid step between: every cell it covers holds rho = 1, u = 0, and no link has exchanged
 // momentum yet, so the reported torque is the covered cells' term alone.
 LatticeWrench torque_after_a_displacement(bool covered_cell_torque, const LatticePose& from, const LatticePose& to) {
-  body::ShapeSpec spec;
-  spec.shape = "sphere";
-  spec.diameter = 8.0;
-  lbm::SolverConfig config;
-  config.nx = config.ny = config.nz = 24;
-  config.tau = 0.6;
-  CouplingOptions options;
-  options.kind = CouplingKind::momentum_exchange;
-  options.covered_cell_torque = covered_cell_torque;
-  auto fluid = lbm::make_solver(config);
-  auto coupling = make_coupling(std::shared_ptr<const body::Shape>(body::make_shape(spec)), 1.0, options);
+  auto fluid = box_fluid();
+  auto coupling = sphere_coupling(covered_cell_torque);
   coupling->start(*fluid, from);
   coupling->impose(*fluid);
   EXPECT_EQ(coupling->measure(*fluid).total.torque, Eigen::Vector3d::Zero())
