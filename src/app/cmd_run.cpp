@@ -490,7 +490,7 @@ void run_case(const RunOptions& options) {
     throw;
   }
   if (result.stop_reason == "interrupted")
-    throw interrupted_error(signals.signal_number(), result, dir, checkpoints.file());
+    throw interrupted_error(signals.signal_number_seen_by_any(sim.communicator()), result, dir, checkpoints.file());
   if (!lead) return;
   const nlohmann::json summary_document = write_summary(values, sim, result, warnings, dir, console);
   report_end(console, sim, result, summary_document, dir);

@@ -302,6 +302,17 @@ InterruptSignals::~InterruptSignals() {
 bool InterruptSignals::raised() const { return g_stop_signal.load(std::memory_order_relaxed) != 0; }
 int InterruptSignals::signal_number() const { return g_stop_signal.load(); }
 
+int InterruptSignals::signal_number_seen_by_any(parallel::Communicator& ranks) const {
+  // mpirun passes a signal on to its ranks at different moments, and the run loop stops them all
+  // when one has it: the ranks that had not yet seen it must still name it (and exit with its status).
+  const int mine = signal_number();
+  const std::vector<double> seen =
+      parallel::sum_in_rank_order(ranks, {mine == SIGINT ? 1.0 : 0.0, mine == SIGTERM ? 1.0 : 0.0});
+  if (seen[0] > 0.0) return SIGINT;
+  if (seen[1] > 0.0) return SIGTERM;
+  return mine;
+}
+
 RunInterrupted interrupted_error(int signal_number, const coupling::RunResult& result, const fs::path& run_dir,
                                  const fs::path& checkpoint) {
   return RunInterrupted(

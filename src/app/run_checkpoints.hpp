@@ -23,6 +23,7 @@
 #include "coupling/runner.hpp"
 #include "coupling/simulation.hpp"
 #include "io/schema.hpp"
+#include "parallel/communicator.hpp"
 
 namespace settle::app {
 
@@ -125,6 +126,9 @@ class InterruptSignals {
   bool raised() const;
   /// The signal that arrived first (0: none).
   int signal_number() const;
+  /// The signal that stopped a run split over `ranks`, which stop together when any of them saw
+  /// one: SIGINT if any rank saw SIGINT, else SIGTERM if any saw it, else 0. A collective call.
+  int signal_number_seen_by_any(parallel::Communicator& ranks) const;
 
  private:
   struct sigaction previous_int_ {};
