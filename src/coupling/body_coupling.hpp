@@ -91,7 +91,7 @@ class BodyCoupling {
 
 /// The numerical choices of a coupling, from the case.
 struct CouplingOptions {
-  CouplingKind kind = CouplingKind::immersed_boundary;
+  CouplingKind kind = kDefaultCoupling;
   // immersed boundary
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;
