@@ -253,10 +253,10 @@ StopAttempt stop_after_first_checkpoint(const std::string& command, const fs::pa
 
 // SIGTERM to rank 1 of two: the processes agree to stop after the same step, each writes its part
 // of the checkpoint and rank 0 the manifest and the message, naming the signal it never received
-// (docs/checkpoints.md, "Across processes"). Continued under the same number of processes the run ends as the plain run
-// did, byte for byte (the restart is exact, as in one process); under another number it is
-// refused before anything is written. The run is twice as long as the others and checkpoints early
-// (t = 0.002 s), so that the signal lands mid-run however fast the machine steps the small grid.
+// (docs/checkpoints.md, "Across processes"). Continued under the same number of processes the run
+// ends as the plain run did, byte for byte (the restart is exact, as in one process); under another
+// number it is refused before anything is written. The run is twice as long as the others and
+// checkpoints early (t = 0.002 s), so that the signal, sent straight to the rank, lands mid-run.
 TEST(MpiRun, AStoppedRunContinuesUnderTheSameNumberOfProcesses) {
   std::string text = kSphereCase;
   text.replace(text.find("end_time = 0.015"), 16, "end_time = 0.03");
