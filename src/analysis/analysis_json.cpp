@@ -75,6 +75,8 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   averaging["start_time"] = a.window_start_si;
   averaging["end_time"] = a.window_end_si;
   averaging["samples"] = a.window_samples;
+  averaging["regime_start_time"] = a.regime_window_start_si;
+  averaging["regime_samples"] = a.regime_window_samples;
   j["averaging"] = averaging;
 
   json lateral;
@@ -85,6 +87,7 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   lateral["minor_amplitude"] = a.lateral_minor_amplitude_si;
   lateral["circularity"] = a.lateral_circularity;
   lateral["trend_fraction"] = a.lateral_trend_fraction;
+  lateral["decay_ratio"] = a.lateral_decay_ratio;
   lateral.update(peak_json(a.lateral_peak, a.lateral_frequency_hz, a.lateral_strouhal));
   j["lateral"] = lateral;
 
@@ -96,6 +99,7 @@ nlohmann::ordered_json to_json(const Analysis& a) {
     tilt_json["mean_axis_deg"] = optional_json(a.mean_axis_tilt_deg);
     tilt_json["amplitude_deg"] = optional_json(a.tilt_amplitude_deg);
     tilt_json["trend_fraction"] = a.tilt_trend_fraction;
+    tilt_json["decay_ratio"] = a.tilt_decay_ratio;
     tilt_json.update(peak_json(a.tilt_peak, a.tilt_frequency_hz, a.tilt_strouhal));
   }
   j["tilt"] = tilt_json;

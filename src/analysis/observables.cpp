@@ -94,6 +94,30 @@ double trend_fraction(const std::vector<double>& t, const std::vector<std::vecto
   return total > 0.0 ? 1.0 - residual / total : 0.0;
 }
 
+// Amplitude of the components' fluctuation over the later half of the span of t against the
+// earlier half, each half about its own mean: near 1 for a sustained oscillation or noise, below
+// 1 for an oscillation dying away (exp(-T / (2 tau)) for an exponential envelope of time constant
+// tau over a span T). 1 when a half has fewer than 2 samples or the earlier half does not move.
+double decay_ratio(const std::vector<double>& t, const std::vector<std::vector<double>>& components) {
+  const double middle = 0.5 * (t.front() + t.back());
+  const auto split = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), middle) - t.begin());
+  if (split < 2 || t.size() - split < 2) return 1.0;
+  const auto power = [&](std::size_t begin, std::size_t end) {
+    const std::vector<double> tt(t.begin() + static_cast<std::ptrdiff_t>(begin),
+                                 t.begin() + static_cast<std::ptrdiff_t>(end));
+    double sum = 0.0;
+    for (const auto& x : components) {
+      std::vector<double> squares = subtract_mean(
+          tt, {x.begin() + static_cast<std::ptrdiff_t>(begin), x.begin() + static_cast<std::ptrdiff_t>(end)});
+      for (double& v : squares) v *= v;
+      sum += time_mean(tt, squares);
+    }
+    return sum;
+  };
+  const double earlier = power(0, split), later = power(split, t.size());
+  return earlier > 0.0 ? std::sqrt(later / earlier) : 1.0;
+}
+
 Eigen::Vector3d dominant_direction(const Eigen::Matrix3d& symmetric) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(symmetric);
   return solver.eigenvectors().col(2);  // eigenvalues ascending
@@ -244,6 +268,7 @@ void lateral_motion(const WindowSeries& w, const VerticalFrame& frame, Analysis&
   const double scale = std::sqrt(time_mean(w.t, size) * time_mean(w.t, rate));
   a.lateral_circularity = scale > 0.0 ? std::abs(time_mean(w.t, cross)) / scale : 0.0;
   a.lateral_trend_fraction = trend_fraction(w.t, {u1, u2});
+  a.lateral_decay_ratio = decay_ratio(w.t, {u1, u2});
   a.lateral_peak = spectral_peak(w.t, {u1, u2});
 }
 
@@ -284,6 +309,7 @@ void tilt(const WindowSeries& w, const VerticalFrame& frame, const std::vector<E
   for (double x : alpha) squares.push_back(x * x);
   a.tilt_amplitude_deg = std::sqrt(2.0 * time_mean(w.t, squares)) * kDegreesPerRadian;
   a.tilt_trend_fraction = trend_fraction(w.t, {alpha});
+  a.tilt_decay_ratio = decay_ratio(w.t, {alpha});
   a.tilt_peak = spectral_peak(w.t, {alpha});
 }
 
@@ -366,6 +392,26 @@ void choose_window(const SettlingSeries& series, Analysis& a) {
   a.window_end_si = t1;
 }
 
+// The observables of the motion's fluctuation over the samples of w, and the regime they show.
+void judge_motion(const WindowSeries& w, const VerticalFrame& frame, const ParticleProperties& p,
+                  const RegimeThresholds& th, Analysis& a) {
+  a.regime_window_start_si = w.t.front();
+  a.regime_window_samples = w.t.size();
+  lateral_motion(w, frame, a);
+  if (a.axis.kind != AxisKind::none) {
+    const std::vector<Eigen::Vector3d> e = axis_directions(w, a.axis.axis_b);
+    tilt(w, frame, e, a);
+    axis_rotation(w, frame, e, a);
+  }
+  a.lateral_frequency_hz.reset();
+  a.lateral_strouhal.reset();
+  a.tilt_frequency_hz.reset();
+  a.tilt_strouhal.reset();
+  frequencies(p, th, a);
+  a.evidence = regime_evidence(a);
+  a.regime = classify_regime(a.evidence, th);
+}
+
 }  // namespace
 
 TerminalCriteria terminal_criteria(const ParticleProperties& p, const AnalysisOptions& options) {
@@ -434,16 +480,17 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   time_to_95_percent(series, frame, a);
   dimensionless_groups(properties, a);
   drag(w, properties, a);
-  lateral_motion(w, frame, a);
   a.mean_body_rotation_rate_si = time_mean(w.t, w.omega_b);
-  if (a.axis.kind != AxisKind::none) {
-    const std::vector<Eigen::Vector3d> e = axis_directions(w, a.axis.axis_b);
-    tilt(w, frame, e, a);
-    axis_rotation(w, frame, e, a);
+  judge_motion(w, frame, properties, options.thresholds, a);
+  // An oscillation dying away is the way into a regime, not the regime (a body that turned
+  // broadside before its velocity settled still swings about its final attitude): judge the part
+  // of the window after it, halving the window from its start while the oscillation still decays.
+  while (is_decaying(a.evidence, options.thresholds)) {
+    const WindowSeries later = window_of(series, 0.5 * (a.regime_window_start_si + a.window_end_si));
+    if (later.t.size() < kMinClassifiableSamples || later.t.front() <= a.regime_window_start_si) break;
+    a.regime_window_start_si = later.t.front();
+    judge_motion(later, frame, properties, options.thresholds, a);
   }
-  frequencies(properties, options.thresholds, a);
-  a.evidence = regime_evidence(a);
-  a.regime = classify_regime(a.evidence, options.thresholds);
   if (a.regime.regime == Regime::tumbling) {
     a.mean_axis_tilt_deg.reset();
     a.tilt_amplitude_deg.reset();

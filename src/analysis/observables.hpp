@@ -104,6 +104,11 @@ struct Analysis {
   bool averaged_over_terminal_window = false;         ///< else over the second half
   double window_start_si = 0.0, window_end_si = 0.0;  ///< first and last averaged sample
   std::size_t window_samples = 0;
+  /// The part of the window the motion's fluctuation (lateral motion, tilt, rotation of the axis)
+  /// and the regime are judged over: the whole window, or its later part when an oscillation
+  /// dies away over it (regime.hpp, rule 3b). Its first sample and sample count.
+  double regime_window_start_si = 0.0;
+  std::size_t regime_window_samples = 0;
 
   // Velocity and path.
   Eigen::Vector3d mean_velocity_si = Eigen::Vector3d::Zero();
@@ -138,6 +143,7 @@ struct Analysis {
   double lateral_minor_amplitude_si = 0.0;  ///< sqrt(2 lambda_2)
   double lateral_circularity = 0.0;         ///< |<du x du'>| / sqrt(<|du|^2> <|du'|^2>)
   double lateral_trend_fraction = 0.0;      ///< variance fraction of a linear trend (least squares)
+  double lateral_decay_ratio = 1.0;         ///< amplitude over the later half / the earlier half
   SpectralPeak lateral_peak;
   std::optional<double> lateral_frequency_hz;  ///< when the lateral motion is not steady
   std::optional<double> lateral_strouhal;      ///< f d_eq / |U|
@@ -151,6 +157,7 @@ struct Analysis {
   std::optional<double> mean_axis_tilt_deg;
   std::optional<double> tilt_amplitude_deg;
   double tilt_trend_fraction = 0.0;
+  double tilt_decay_ratio = 1.0;  ///< amplitude over the later half / the earlier half
   SpectralPeak tilt_peak;
   std::optional<double> tilt_frequency_hz;
   std::optional<double> tilt_strouhal;

@@ -50,19 +50,40 @@ RegimeResult periodic(const RegimeEvidence& e, const RegimeThresholds& th) {
                                      : planar};
 }
 
-// Rules 3 and 4 of the header, on the unsteady signal: the lateral velocity, or the tilt when
-// only the tilt is unsteady.
+// The signal rules 3 and 4 of the header judge: the lateral velocity, or the tilt when only the
+// tilt is unsteady.
+struct UnsteadySignal {
+  const char* name;
+  double concentration, cycles, trend, decay;
+};
+
+UnsteadySignal unsteady_signal(const RegimeEvidence& e, const RegimeThresholds& th) {
+  if (lateral_is_steady(e, th))
+    return {"tilt", e.tilt_concentration, e.tilt_cycles, e.tilt_trend_fraction, e.tilt_decay_ratio};
+  return {"lateral velocity", e.lateral_concentration, e.lateral_cycles, e.lateral_trend_fraction,
+          e.lateral_decay_ratio};
+}
+
+bool is_drifting(const UnsteadySignal& s, const RegimeThresholds& th) { return s.trend >= th.drift_min_trend_fraction; }
+
+bool is_unsteady(const RegimeEvidence& e, const RegimeThresholds& th) {
+  return e.classifiable && !is_tumbling(e, th) && !(lateral_is_steady(e, th) && tilt_is_steady(e, th));
+}
+
 RegimeResult unsteady(const RegimeEvidence& e, const RegimeThresholds& th) {
-  const bool lateral_steady = lateral_is_steady(e, th);
-  const double concentration = lateral_steady ? e.tilt_concentration : e.lateral_concentration;
-  const double cycles = lateral_steady ? e.tilt_cycles : e.lateral_cycles;
-  const double trend = lateral_steady ? e.tilt_trend_fraction : e.lateral_trend_fraction;
-  const char* signal = lateral_steady ? "tilt" : "lateral velocity";
-  if (trend >= th.drift_min_trend_fraction)
+  const UnsteadySignal s = unsteady_signal(e, th);
+  const double concentration = s.concentration, cycles = s.cycles;
+  const char* signal = s.name;
+  if (is_drifting(s, th))
     return {Regime::not_classified,
             fmt::format("the {} is still drifting: {:.0f}% of its variance over the window is a linear trend (>= "
                         "{:.0f}%); run longer",
-                        signal, 100.0 * trend, 100.0 * th.drift_min_trend_fraction)};
+                        signal, 100.0 * s.trend, 100.0 * th.drift_min_trend_fraction)};
+  if (s.decay < th.decaying_max_amplitude_ratio)
+    return {Regime::not_classified,
+            fmt::format("the {} oscillation is dying away (its amplitude over the later half of the window is {:.2f} "
+                        "of the earlier half's, < {:.2f}): the body is still settling into its regime; run longer",
+                        signal, s.decay, th.decaying_max_amplitude_ratio)};
   const bool concentrated = concentration >= th.periodic_min_concentration;
   if (concentrated && cycles >= th.periodic_min_cycles) return periodic(e, th);
   if (concentrated)
@@ -99,6 +120,12 @@ std::string_view regime_name(Regime regime) {
       break;
   }
   return "not classified";
+}
+
+bool is_decaying(const RegimeEvidence& e, const RegimeThresholds& th) {
+  if (!is_unsteady(e, th)) return false;
+  const UnsteadySignal s = unsteady_signal(e, th);
+  return !is_drifting(s, th) && s.decay < th.decaying_max_amplitude_ratio;
 }
 
 RegimeResult classify_regime(const RegimeEvidence& e, const RegimeThresholds& th) {

@@ -28,6 +28,12 @@
 //  3. still drifting: when 90% or more of the variance of the unsteady signal (the lateral
 //     velocity, or the tilt when only the tilt is unsteady) is a linear trend over the window,
 //     the body is still on its way to a regime (e.g. turning slowly broadside): not classified.
+//  3b. dying away: when the amplitude of that signal over the later half of the window is less
+//     than half of that over the earlier half, the oscillation is the body's way into its regime
+//     (a sustained oscillation or noise keeps a ratio near 1; an exponential envelope of time
+//     constant tau over a window T gives exp(-T / (2 tau))). analyse() then judges the later
+//     half alone, again while the oscillation still decays there; when too few samples are left,
+//     not classified.
 //  4. periodic: at least half of the fluctuation power of that signal lies within two spectral
 //     bins of its peak, and the window holds at least two periods of it. A concentrated peak
 //     with fewer periods in the window is not classified (too short to tell); a broadband
@@ -64,11 +70,12 @@ std::string_view regime_name(Regime regime);
 struct RegimeThresholds {
   double steady_lateral_amplitude = 0.01;  ///< lateral amplitude / mean speed
   double steady_tilt_amplitude_deg = 1.0;
-  double oblique_path_angle_deg = 1.0;      ///< mean path from vertical
-  double drift_min_trend_fraction = 0.9;    ///< variance fraction of a linear trend
-  double periodic_min_concentration = 0.5;  ///< spectral power fraction near the peak
-  double periodic_min_cycles = 2.0;         ///< periods in the averaging window
-  double spiral_min_circularity = 0.8;      ///< 2 a1 a2 / (a1^2 + a2^2)
+  double oblique_path_angle_deg = 1.0;        ///< mean path from vertical
+  double drift_min_trend_fraction = 0.9;      ///< variance fraction of a linear trend
+  double decaying_max_amplitude_ratio = 0.5;  ///< later half's amplitude / earlier half's
+  double periodic_min_concentration = 0.5;    ///< spectral power fraction near the peak
+  double periodic_min_cycles = 2.0;           ///< periods in the averaging window
+  double spiral_min_circularity = 0.8;        ///< 2 a1 a2 / (a1^2 + a2^2)
   double flutter_min_tilt_amplitude_deg = 20.0;
   double tumbling_min_net_rotation = 3.141592653589793;  ///< rad, half a turn
   double tumbling_min_monotonicity = 0.8;                ///< |net rotation| / total rotation
@@ -87,12 +94,14 @@ struct RegimeEvidence {
   double lateral_concentration = 0.0;
   double lateral_cycles = 0.0;
   double lateral_trend_fraction = 0.0;  ///< variance fraction explained by a linear trend
+  double lateral_decay_ratio = 1.0;     ///< amplitude over the later half / the earlier half
 
   bool has_axis = false;  ///< false for bodies without a symmetry or longest axis (spheres)
   double tilt_amplitude_deg = 0.0;
   double tilt_concentration = 0.0;
   double tilt_cycles = 0.0;
   double tilt_trend_fraction = 0.0;
+  double tilt_decay_ratio = 1.0;
   double axis_net_rotation = 0.0;             ///< rad, signed
   double axis_rotation_monotonicity = 0.0;    ///< |net| / total rotation of the axis
   double axis_rotation_elevation_deg = 90.0;  ///< of the mean rotation axis above horizontal
@@ -102,6 +111,10 @@ struct RegimeResult {
   Regime regime = Regime::not_classified;
   std::string reason;  ///< the rule that decided, with the numbers
 };
+
+/// Rule 3b of the file comment: the window is classifiable, not steady, not tumbling, not
+/// drifting, and its unsteady signal dies away over it.
+bool is_decaying(const RegimeEvidence& evidence, const RegimeThresholds& thresholds = {});
 
 RegimeResult classify_regime(const RegimeEvidence& evidence, const RegimeThresholds& thresholds = {});
 

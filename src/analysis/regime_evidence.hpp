@@ -7,9 +7,12 @@
 
 namespace settle::analysis {
 
+/// A window needs this many samples before its regime is judged.
+constexpr std::size_t kMinClassifiableSamples = 8;
+
 /// The regime evidence of an analysis whose observables are computed (everything analyse() fills
-/// before it classifies). Not classifiable, with the reason, when the window has fewer than 8
-/// samples, the particle does not move, or without a terminal state the second half of the run is
+/// before it classifies). Not classifiable, with the reason, when the part of the window judged
+/// (Analysis::regime_window_samples) has fewer than kMinClassifiableSamples samples, the particle does not move, or without a terminal state the second half of the run is
 /// shorter than the two detection windows an unsteady regime would have to fill.
 RegimeEvidence regime_evidence(const Analysis& analysis);
 

@@ -141,6 +141,11 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
     out << fmt::format("  tilt of the axis mean {:.3g} deg, mean axis {} deg, amplitude {} deg, f = {} Hz\n",
                        a.tilt_mean_deg, optional_text(a.mean_axis_tilt_deg, "{:.3g}"),
                        optional_text(a.tilt_amplitude_deg, "{:.3g}"), optional_text(a.tilt_frequency_hz, "{:.4g}"));
+  if (a.regime_window_start_si > a.window_start_si)
+    out << fmt::format(
+        "  regime judged    over t = {:.4g} .. {:.4g} s ({} samples), after an oscillation that dies away over the "
+        "earlier part\n",
+        a.regime_window_start_si, a.window_end_si, a.regime_window_samples);
   out << fmt::format("  regime           {}: {}\n", analysis::regime_name(a.regime.regime), a.regime.reason);
   for (const std::string& warning : a.warnings) out << fmt::format("  warning: {}\n", warning);
 }

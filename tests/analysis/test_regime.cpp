@@ -151,6 +151,45 @@ TEST(Regimes, DiskStillTurningBroadsideIsNotClassified) {
   EXPECT_NEAR(a.tilt_trend_fraction, 1.0, 1e-9);  // a straight line, fitted exactly
 }
 
+// A swing of the disk's axis about y whose amplitude decays as exp(-t / tau) from A0, at a
+// steady velocity: a body coming to rest at its final attitude after its velocity has settled.
+Motion decaying_swing(double initial_amplitude, double time_constant, double frequency) {
+  const double w = 2.0 * kPi * frequency;
+  const auto angle = [=](double t) { return initial_amplitude * std::exp(-t / time_constant) * std::sin(w * t); };
+  Motion m;
+  m.velocity = [](double) { return Eigen::Vector3d(0.0, 0.0, -kSpeed); };
+  m.attitude = [=](double t) { return rotation(angle(t), Eigen::Vector3d::UnitY()); };
+  m.omega_n = [=](double t) {
+    const double rate =
+        initial_amplitude * std::exp(-t / time_constant) * (w * std::cos(w * t) - std::sin(w * t) / time_constant);
+    return Eigen::Vector3d(0.0, rate, 0.0);
+  };
+  return m;
+}
+
+TEST(Regimes, SwingDyingAwayIsJudgedAfterIt) {
+  // 20 degrees decaying with tau = 0.5 s at 2.2 Hz: over the whole window (from about 0.1 s to
+  // 6 s) the tilt amplitude is about 3 degrees, a "zigzag" if the decay were ignored; its later
+  // half is at rest to within 20 exp(-6) = 0.05 degrees.
+  const Analysis a = analyse_motion(decaying_swing(20.0 * kDegree, 0.5, 2.2), settle::test::disk_in_water());
+  EXPECT_EQ(a.regime.regime, Regime::steady_vertical) << a.regime.reason;
+  EXPECT_GT(a.regime_window_start_si, a.window_start_si + 0.25 * (a.window_end_si - a.window_start_si));
+  ASSERT_TRUE(a.tilt_amplitude_deg.has_value());
+  EXPECT_LT(*a.tilt_amplitude_deg, 0.1);
+}
+
+TEST(Regimes, SlowlyDecayingSwingKeepsItsRegimeAndItsDecayRatio) {
+  // tau = 10 s over a window of about 5.9 s: the later half's amplitude is exp(-T / (2 tau)),
+  // about 0.75 of the earlier half's, above the 0.5 that makes an oscillation a transient. With
+  // 6.5 periods in each half the sin^2 means of the halves are off 1/2 by up to 1/(4 pi 6.5),
+  // 1.2% each; 3% covers both halves.
+  const Analysis a = analyse_motion(decaying_swing(8.0 * kDegree, 10.0, 2.2), settle::test::disk_in_water());
+  EXPECT_EQ(a.regime.regime, Regime::zigzag) << a.regime.reason;
+  EXPECT_EQ(a.regime_window_start_si, a.window_start_si);
+  const double span = a.window_end_si - a.window_start_si;
+  EXPECT_NEAR(a.tilt_decay_ratio, std::exp(-span / (2.0 * 10.0)), 0.03 * std::exp(-span / 20.0));
+}
+
 // ------------------------------------------------------------------ the rules, on their thresholds
 RegimeEvidence steady_sphere() {
   RegimeEvidence e;
@@ -204,6 +243,22 @@ TEST(RegimeRules, ThresholdsSeparateTheRegimes) {
   rocking.tilt_concentration = 0.9;
   rocking.tilt_cycles = 10.0;
   EXPECT_EQ(classify_regime(rocking).regime, Regime::zigzag);
+  EXPECT_FALSE(is_decaying(rocking));
+
+  // ... and whether it dies away: a transient is not a regime (analyse() then judges the window's
+  // later part; here, with no later part, it stays not classified).
+  rocking.tilt_decay_ratio = 0.98 * th.decaying_max_amplitude_ratio;
+  EXPECT_TRUE(is_decaying(rocking));
+  EXPECT_EQ(classify_regime(rocking).regime, Regime::not_classified);
+  rocking.tilt_decay_ratio = 1.02 * th.decaying_max_amplitude_ratio;
+  EXPECT_FALSE(is_decaying(rocking));
+  EXPECT_EQ(classify_regime(rocking).regime, Regime::zigzag);
+  // A steady window never decays: the rule applies to unsteady signals only.
+  RegimeEvidence quiet = steady_sphere();
+  quiet.tilt_decay_ratio = 0.1;
+  quiet.lateral_decay_ratio = 0.1;
+  EXPECT_FALSE(is_decaying(quiet));
+  EXPECT_EQ(classify_regime(quiet).regime, Regime::steady_vertical);
 }
 
 TEST(RegimeRules, TumblingNeedsHalfATurnOneWayAboutANearHorizontalAxis) {
