@@ -53,7 +53,7 @@ struct CouplingForces {
 /// Which coupling a case uses (numerics.coupling).
 enum class CouplingKind { immersed_boundary, momentum_exchange };
 /// The coupling of a case that names none; why this one: docs/coupling.md, "Couplings".
-inline constexpr CouplingKind kDefaultCoupling = CouplingKind::immersed_boundary;
+inline constexpr CouplingKind kDefaultCoupling = CouplingKind::momentum_exchange;
 /// Whether the momentum exchange gives the body the angular momentum the covered cells' fluid
 /// lacks (numerics.covered_cell_torque; docs/coupling.md, "The covered cells' spin").
 inline constexpr bool kDefaultCoveredCellTorque = true;

@@ -173,7 +173,7 @@ TEST(MpiRun, OneTwoAndFourProcessesWriteThePlainRunsTimeSeries) {
   expect_mpi_runs_as_plain("mpi_sphere", kSphereCase, {1, 2, 4});
 }
 
-// The same sphere with the immersed boundary (the default coupling): its markers' stencils and its
+// The same sphere with the immersed boundary (the other coupling): its markers' stencils and its
 // volume fractions straddle the blocks of 2 and 4 processes.
 TEST(MpiRun, TheImmersedBoundaryOnTwoAndFourProcessesWritesThePlainRunsTimeSeries) {
   std::string text = kSphereCase;
