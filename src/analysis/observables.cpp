@@ -488,7 +488,6 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   while (is_decaying(a.evidence, options.thresholds)) {
     const WindowSeries later = window_of(series, 0.5 * (a.regime_window_start_si + a.window_end_si));
     if (later.t.size() < kMinClassifiableSamples || later.t.front() <= a.regime_window_start_si) break;
-    a.regime_window_start_si = later.t.front();
     judge_motion(later, frame, properties, options.thresholds, a);
   }
   if (a.regime.regime == Regime::tumbling) {

@@ -66,34 +66,37 @@ UnsteadySignal unsteady_signal(const RegimeEvidence& e, const RegimeThresholds& 
 
 bool is_drifting(const UnsteadySignal& s, const RegimeThresholds& th) { return s.trend >= th.drift_min_trend_fraction; }
 
+bool dies_away(const UnsteadySignal& s, const RegimeThresholds& th) {
+  return s.decay < th.decaying_max_amplitude_ratio;
+}
+
 bool is_unsteady(const RegimeEvidence& e, const RegimeThresholds& th) {
   return e.classifiable && !is_tumbling(e, th) && !(lateral_is_steady(e, th) && tilt_is_steady(e, th));
 }
 
 RegimeResult unsteady(const RegimeEvidence& e, const RegimeThresholds& th) {
   const UnsteadySignal s = unsteady_signal(e, th);
-  const double concentration = s.concentration, cycles = s.cycles;
   const char* signal = s.name;
   if (is_drifting(s, th))
     return {Regime::not_classified,
             fmt::format("the {} is still drifting: {:.0f}% of its variance over the window is a linear trend (>= "
                         "{:.0f}%); run longer",
                         signal, 100.0 * s.trend, 100.0 * th.drift_min_trend_fraction)};
-  if (s.decay < th.decaying_max_amplitude_ratio)
+  if (dies_away(s, th))
     return {Regime::not_classified,
             fmt::format("the {} oscillation is dying away (its amplitude over the later half of the window is {:.2f} "
                         "of the earlier half's, < {:.2f}): the body is still settling into its regime; run longer",
                         signal, s.decay, th.decaying_max_amplitude_ratio)};
-  const bool concentrated = concentration >= th.periodic_min_concentration;
-  if (concentrated && cycles >= th.periodic_min_cycles) return periodic(e, th);
+  const bool concentrated = s.concentration >= th.periodic_min_concentration;
+  if (concentrated && s.cycles >= th.periodic_min_cycles) return periodic(e, th);
   if (concentrated)
     return {Regime::not_classified,
             fmt::format("unsteady, but the window holds only {:.2g} periods of the {} oscillation (< {:.3g}): too "
                         "short to tell periodic from chaotic",
-                        cycles, signal, th.periodic_min_cycles)};
+                        s.cycles, signal, th.periodic_min_cycles)};
   return {Regime::chaotic, fmt::format("unsteady and broadband: {:.0f}% of the {} fluctuation power near its peak "
                                        "(< {:.0f}%)",
-                                       100.0 * concentration, signal, 100.0 * th.periodic_min_concentration)};
+                                       100.0 * s.concentration, signal, 100.0 * th.periodic_min_concentration)};
 }
 
 }  // namespace
@@ -125,7 +128,7 @@ std::string_view regime_name(Regime regime) {
 bool is_decaying(const RegimeEvidence& e, const RegimeThresholds& th) {
   if (!is_unsteady(e, th)) return false;
   const UnsteadySignal s = unsteady_signal(e, th);
-  return !is_drifting(s, th) && s.decay < th.decaying_max_amplitude_ratio;
+  return !is_drifting(s, th) && dies_away(s, th);
 }
 
 RegimeResult classify_regime(const RegimeEvidence& e, const RegimeThresholds& th) {

@@ -12,8 +12,9 @@ constexpr std::size_t kMinClassifiableSamples = 8;
 
 /// The regime evidence of an analysis whose observables are computed (everything analyse() fills
 /// before it classifies). Not classifiable, with the reason, when the part of the window judged
-/// (Analysis::regime_window_samples) has fewer than kMinClassifiableSamples samples, the particle does not move, or without a terminal state the second half of the run is
-/// shorter than the two detection windows an unsteady regime would have to fill.
+/// (Analysis::regime_window_samples) has fewer than kMinClassifiableSamples samples, the particle
+/// does not move, or without a terminal state the second half of the run is shorter than the two
+/// detection windows an unsteady regime would have to fill.
 RegimeEvidence regime_evidence(const Analysis& analysis);
 
 }  // namespace settle::analysis

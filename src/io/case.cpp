@@ -20,7 +20,7 @@ namespace {
 
 // Water at 20 C, a prolate spheroid (aspect ratio 2, d_eq = 1.26 mm, density ratio 1.1,
 // Galileo number about 45) released tilted by 0.5 rad; 8 cells per equivalent diameter in a
-// 6 x 6 x 12 d_eq window that follows it. It runs its whole 2 s (7841 steps, 1.7e9 cell updates)
+// 6 x 6 x 12 d_eq window that follows it. It runs its whole 2 s (about 1.7e9 cell updates)
 // rather than stopping at the terminal state: that is detected on the velocity, at about 0.5 s,
 // while the spheroid still swings about its broadside attitude for another half second
 // (docs/analysis.md, "Averaging window"). The fluid's density and
