@@ -34,54 +34,92 @@ void mean_of_closest(const std::vector<std::pair<double, const double*>>& candid
 
 }  // namespace
 
-BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
-                     std::span<const std::array<int, 3>> velocities, lbm::WallRule rule) {
-  const Eigen::Matrix3d to_body = pose.body_to_inertial.transpose();
-  const auto body_point = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
-    return to_body * ((x - pose.centre) * dx_si);
-  };
-  const auto cell_point = [&](int i, int j, int k) {
-    return Eigen::Vector3d(box.origin[0] + i, box.origin[1] + j, box.origin[2] + k);
-  };
-  const auto at = [&](int i, int j, int k) {
+namespace {
+
+// The body's box in lattice units and the body frame.
+struct BoxFrame {
+  const body::Shape& shape;
+  double dx_si;
+  const CellBox& box;
+  const LatticePose& pose;
+  Eigen::Matrix3d to_body = pose.body_to_inertial.transpose();
+  // Cells farther from the centre than the bounding radius are outside without asking.
+  double reach = shape.bounding_radius() / dx_si;
+
+  Eigen::Vector3d body_point(const Eigen::Vector3d& x) const { return to_body * ((x - pose.centre) * dx_si); }
+  Eigen::Vector3d cell_point(int i, int j, int k) const {
+    return {double(box.origin[0] + i), double(box.origin[1] + j), double(box.origin[2] + k)};
+  }
+  std::size_t at(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(box.extent[0]) *
                (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.extent[1]) * static_cast<std::size_t>(k));
-  };
-  // Cells farther from the centre than the bounding radius are outside without asking.
-  const double reach = shape.bounding_radius() / dx_si;
-  std::vector<unsigned char> inside(box.cell_count(), 0);
+  }
+};
+
+// 1 for the box's cells whose centres lie inside the body. The shape's queries are const and
+// thread-safe (body/shape.hpp).
+std::vector<unsigned char> inside_cells(const BoxFrame& f) {
+  std::vector<unsigned char> inside(f.box.cell_count(), 0);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < f.box.extent[2]; ++k)
+    for (int j = 0; j < f.box.extent[1]; ++j)
+      for (int i = 0; i < f.box.extent[0]; ++i) {
+        const Eigen::Vector3d x = f.cell_point(i, j, k);
+        if ((x - f.pose.centre).norm() <= f.reach && f.shape.contains(f.body_point(x))) inside[f.at(i, j, k)] = 1;
+      }
+  return inside;
+}
+
+// The links from the fluid cells of plane k into the body, with their crossings.
+void plane_links(const BoxFrame& f, const std::vector<unsigned char>& inside,
+                 std::span<const std::array<int, 3>> velocities, int k, BodyWalls& plane) {
+  const CellBox& box = f.box;
+  for (int j = 0; j < box.extent[1]; ++j)
+    for (int i = 0; i < box.extent[0]; ++i) {
+      const Eigen::Vector3d x = f.cell_point(i, j, k);
+      if (inside[f.at(i, j, k)] || (x - f.pose.centre).norm() > f.reach + 2.0) continue;
+      for (std::size_t dir = 1; dir < velocities.size(); ++dir) {
+        const auto& c = velocities[dir];
+        const int ni = i + c[0], nj = j + c[1], nk = k + c[2];
+        if (ni < 0 || nj < 0 || nk < 0 || ni >= box.extent[0] || nj >= box.extent[1] || nk >= box.extent[2]) continue;
+        if (!inside[f.at(ni, nj, nk)]) continue;
+        const Eigen::Vector3d d(c[0], c[1], c[2]);
+        // The lattice takes q in (0, 1]: a link whose fluid end lies on the surface (round-off) gets 1e-6.
+        const double q = std::clamp(f.shape.surface_crossing(f.body_point(x), f.body_point(x + d)), 1e-6, 1.0);
+        const Eigen::Vector3d wall = x + q * d;
+        plane.obstacle.links.push_back({{box.origin[0] + i, box.origin[1] + j, box.origin[2] + k},
+                                        static_cast<int>(dir),
+                                        q,
+                                        f.pose.velocity_at(wall)});
+        plane.crossing.push_back(wall);
+      }
+    }
+}
+
+}  // namespace
+
+BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
+                     std::span<const std::array<int, 3>> velocities, lbm::WallRule rule) {
+  const BoxFrame frame{shape, dx_si, box, pose};
+  const std::vector<unsigned char> inside = inside_cells(frame);
   BodyWalls walls;
   walls.obstacle.rule = rule;
   for (int k = 0; k < box.extent[2]; ++k)
     for (int j = 0; j < box.extent[1]; ++j)
-      for (int i = 0; i < box.extent[0]; ++i) {
-        const Eigen::Vector3d x = cell_point(i, j, k);
-        if ((x - pose.centre).norm() > reach || !shape.contains(body_point(x))) continue;
-        inside[at(i, j, k)] = 1;
-        walls.obstacle.solid_cells.push_back({box.origin[0] + i, box.origin[1] + j, box.origin[2] + k});
-      }
+      for (int i = 0; i < box.extent[0]; ++i)
+        if (inside[frame.at(i, j, k)])
+          walls.obstacle.solid_cells.push_back({box.origin[0] + i, box.origin[1] + j, box.origin[2] + k});
+  // Each plane's links are found by one thread and joined in plane order: any thread count gives
+  // the same walls in the same order.
+  std::vector<BodyWalls> planes(static_cast<std::size_t>(box.extent[2]));
+#pragma omp parallel for schedule(dynamic)
   for (int k = 0; k < box.extent[2]; ++k)
-    for (int j = 0; j < box.extent[1]; ++j)
-      for (int i = 0; i < box.extent[0]; ++i) {
-        const Eigen::Vector3d x = cell_point(i, j, k);
-        if (inside[at(i, j, k)] || (x - pose.centre).norm() > reach + 2.0) continue;
-        for (std::size_t dir = 1; dir < velocities.size(); ++dir) {
-          const auto& c = velocities[dir];
-          const int ni = i + c[0], nj = j + c[1], nk = k + c[2];
-          if (ni < 0 || nj < 0 || nk < 0 || ni >= box.extent[0] || nj >= box.extent[1] || nk >= box.extent[2]) continue;
-          if (!inside[at(ni, nj, nk)]) continue;
-          const Eigen::Vector3d d(c[0], c[1], c[2]);
-          // The lattice takes q in (0, 1]: a link whose fluid end lies on the surface (round-off) gets 1e-6.
-          const double q = std::clamp(shape.surface_crossing(body_point(x), body_point(x + d)), 1e-6, 1.0);
-          const Eigen::Vector3d wall = x + q * d;
-          walls.obstacle.links.push_back({{box.origin[0] + i, box.origin[1] + j, box.origin[2] + k},
-                                          static_cast<int>(dir),
-                                          q,
-                                          pose.velocity_at(wall)});
-          walls.crossing.push_back(wall);
-        }
-      }
+    plane_links(frame, inside, velocities, k, planes[static_cast<std::size_t>(k)]);
+  for (const BodyWalls& plane : planes) {
+    walls.obstacle.links.insert(walls.obstacle.links.end(), plane.obstacle.links.begin(), plane.obstacle.links.end());
+    walls.crossing.insert(walls.crossing.end(), plane.crossing.begin(), plane.crossing.end());
+  }
   return walls;
 }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <new>
@@ -858,6 +859,7 @@ class AaSolver final : public Solver {
   };
 
   PreparedLink prepare_link(const WallLink& link, WallRule rule) const;
+  std::vector<PreparedLink> prepare_links(const Obstacle& obstacle) const;
   /// The solid cells move with the content in a window shift (those leaving the grid are
   /// dropped); the links are dropped, to be set again at the obstacle's new place.
   void shift_solid_cells(int axis, int sign, std::vector<std::size_t> entering) {
@@ -1061,11 +1063,30 @@ void AaSolver<L, Collision, Real>::set_obstacle(const Obstacle& obstacle) {
   ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
   set_solid_cells(std::move(cells));
   ghost_solids_ = std::move(ghosts);
-  std::vector<PreparedLink> prepared;
-  prepared.reserve(obstacle.links.size());
-  for (const WallLink& link : obstacle.links) prepared.push_back(prepare_link(link, obstacle.rule));
-  links_ = std::move(prepared);
+  links_ = prepare_links(obstacle);
   wall_momentum_.assign(links_.size(), Eigen::Vector3d::Zero());
+}
+
+template <Lattice L, class Collision, class Real>
+std::vector<typename AaSolver<L, Collision, Real>::PreparedLink> AaSolver<L, Collision, Real>::prepare_links(
+    const Obstacle& obstacle) const {
+  const auto count = static_cast<std::ptrdiff_t>(obstacle.links.size());
+  std::vector<PreparedLink> prepared(obstacle.links.size());
+  // A moving body's links are prepared every step. An exception may not leave a parallel region:
+  // the first bad link's (the serial loop's) is kept and thrown after it.
+  std::ptrdiff_t first_bad = count;
+  std::exception_ptr error;
+#pragma omp parallel for schedule(static) if (threaded_ && count > 1024)
+  for (std::ptrdiff_t k = 0; k < count; ++k) {
+    try {
+      prepared[static_cast<std::size_t>(k)] = prepare_link(obstacle.links[static_cast<std::size_t>(k)], obstacle.rule);
+    } catch (...) {
+#pragma omp critical(settle_prepare_links)
+      if (k < first_bad) first_bad = k, error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  return prepared;
 }
 
 template <Lattice L, class Collision, class Real>

@@ -108,6 +108,69 @@ void set_travel(io::CaseValues& values, double diameters, const std::filesystem:
              "study");
 }
 
+// The direction the body travels relative to the fluid: its towing direction, against a fixed
+// body's inflow, or along gravity for a free body (against it for one lighter than the fluid). The window inputs need it along z, the axis
+// along which settle's windows are long and follow their body.
+double travel_sign_along_z(const io::CaseValues& values, std::string_view name) {
+  const std::string& motion = values.string("particle.motion");
+  Eigen::Vector3d travel = towing_direction(values);
+  if (motion == "free" && values.real("particle.density") < values.real("fluid.density")) travel = -travel;
+  if (motion == "fixed") {
+    if (!values.has("domain.inflow_velocity") || vector3(values, "domain.inflow_velocity").norm() <= 0.0)
+      throw InputError(fmt::format("{}: the base case's body is fixed without an inflow, so it has no front", name));
+    travel = -vector3(values, "domain.inflow_velocity").normalized();
+  }
+  if (std::abs(travel.z()) < 1.0 - 1e-12)
+    throw InputError(
+        fmt::format("{}: the body travels along ({:.3g}, {:.3g}, {:.3g}), not along the z axis, the "
+                    "axis the window inputs measure ahead and behind along",
+                    name, travel.x(), travel.y(), travel.z()));
+  return travel.z() > 0.0 ? 1.0 : -1.0;
+}
+
+Eigen::Vector3d body_position(const io::CaseValues& values) {
+  return values.has("particle.position") ? vector3(values, "particle.position")
+                                         : Eigen::Vector3d(0.5 * vector3(values, "domain.size"));
+}
+
+// The window's sides at width_d d_eq each way across (x and y), the body kept at the same offset
+// from the axis (a deliberate sub-cell seed survives).
+void set_window_width(io::CaseValues& values, double width_d, const std::filesystem::path& base_directory) {
+  constexpr std::string_view name = "domain_width_diameters";
+  if (!(width_d > 0.0)) throw InputError(fmt::format("{}: {} is not > 0", name, width_d));
+  travel_sign_along_z(values, name);
+  const double width_m = width_d * equivalent_diameter_m(values, base_directory);
+  Eigen::Vector3d size = vector3(values, "domain.size");
+  Eigen::Vector3d position = body_position(values);
+  for (int a = 0; a < 2; ++a) {
+    position[a] += 0.5 * (width_m - size[a]);
+    size[a] = width_m;
+  }
+  set_vector3(values, "domain.size", size);
+  set_vector3(values, "particle.position", position);
+}
+
+// The fluid ahead of the body's centre (ahead = true) or the wake behind it, in d_eq along z, the
+// other end's distance kept.
+void set_window_end(io::CaseValues& values, bool ahead, double length_d, const std::filesystem::path& base_directory) {
+  const std::string_view name = ahead ? "domain_ahead_diameters" : "domain_behind_diameters";
+  if (!(length_d > 0.0)) throw InputError(fmt::format("{}: {} is not > 0", name, length_d));
+  const bool front_at_top = travel_sign_along_z(values, name) > 0.0;
+  Eigen::Vector3d size = vector3(values, "domain.size");
+  Eigen::Vector3d position = body_position(values);
+  const double to_top_m = size.z() - position.z();
+  const double length_m = length_d * equivalent_diameter_m(values, base_directory);
+  const bool sets_top = ahead == front_at_top;
+  if (sets_top) {
+    size.z() = position.z() + length_m;
+  } else {
+    position.z() = length_m;
+    size.z() = length_m + to_top_m;
+  }
+  set_vector3(values, "domain.size", size);
+  set_vector3(values, "particle.position", position);
+}
+
 }  // namespace
 
 const char* relative_flow_key(const io::CaseValues& values) {
@@ -118,10 +181,18 @@ const char* relative_flow_key(const io::CaseValues& values) {
 }
 
 bool is_derived_input(std::string_view name) {
-  return name == "reynolds" || name == "incidence_deg" || name == "galileo" || name == "travel_diameters";
+  return name == "reynolds" || name == "incidence_deg" || name == "galileo" || name == "travel_diameters" ||
+         is_window_input(name);
 }
 
-std::string_view derived_input_names() { return "reynolds, incidence_deg, galileo, travel_diameters"; }
+bool is_window_input(std::string_view name) {
+  return name == "domain_width_diameters" || name == "domain_ahead_diameters" || name == "domain_behind_diameters";
+}
+
+std::string_view derived_input_names() {
+  return "reynolds, incidence_deg, galileo, travel_diameters, domain_width_diameters, domain_ahead_diameters, "
+         "domain_behind_diameters";
+}
 
 void set_derived_input(io::CaseValues& values, std::string_view name, double value,
                        const std::filesystem::path& base_directory) {
@@ -129,6 +200,9 @@ void set_derived_input(io::CaseValues& values, std::string_view name, double val
   if (name == "galileo") return set_galileo(values, value, base_directory);
   if (name == "incidence_deg") return set_incidence(values, value);
   if (name == "travel_diameters") return set_travel(values, value, base_directory);
+  if (name == "domain_width_diameters") return set_window_width(values, value, base_directory);
+  if (name == "domain_ahead_diameters") return set_window_end(values, true, value, base_directory);
+  if (name == "domain_behind_diameters") return set_window_end(values, false, value, base_directory);
   throw InputError(fmt::format("{}: not a derived input ({})", name, derived_input_names()));
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The inputs researchers think in, turned into case keys (docs/studies.md, "Derived inputs"):
 // the Reynolds number, the incidence and the length of run in diameters of travel of a towed body,
-// the Galileo number of a free one, and attitudes drawn uniformly on the rotation group for
+// the Galileo number of a free one, the window's width and the fluid ahead of and behind the body
+// in equivalent diameters, and attitudes drawn uniformly on the rotation group for
 // orientation ensembles.
 #include <cstdint>
 #include <filesystem>
@@ -15,8 +16,13 @@
 namespace settle::study {
 
 /// True for the names a study may vary besides the case keys: reynolds, incidence_deg, galileo,
-/// travel_diameters.
+/// travel_diameters and the window inputs (is_window_input).
 bool is_derived_input(std::string_view name);
+
+/// True for the inputs that set domain.size and particle.position: domain_width_diameters (x and y
+/// extents), domain_ahead_diameters and domain_behind_diameters (from the body's centre to the
+/// window's end ahead of it and behind it along z, its direction of travel).
+bool is_window_input(std::string_view name);
 
 /// The names of is_derived_input, for messages.
 std::string_view derived_input_names();

@@ -227,12 +227,14 @@ double as_number(const io::Value& v, std::string_view name) {
 
 // Case keys first, in the file's order, then the derived inputs, which read them (galileo sets the
 // viscosity that reynolds reads, reynolds the speed that travel_diameters reads; incidence turns
-// the attitude the case or an ensemble gave).
+// the attitude the case or an ensemble gave; the window inputs last, on the body and the
+// direction of travel that are then final).
 int derived_rank(std::string_view name) {
   if (name == "galileo") return 1;
   if (name == "reynolds") return 2;
   if (name == "incidence_deg") return 3;
   if (name == "travel_diameters") return 4;  // reads the speed reynolds set
+  if (is_window_input(name)) return 5;
   return 0;
 }
 
@@ -269,6 +271,12 @@ void check_conflicts(const StudySpec& spec) {
     throw InputError(fmt::format("{}: vary.travel_diameters sets run.end_time, which is varied too", origin));
   if (varies("galileo") && varies("fluid.dynamic_viscosity"))
     throw InputError(fmt::format("{}: vary.galileo sets fluid.dynamic_viscosity, which is varied too", origin));
+  const bool varies_window = std::any_of(spec.variations.begin(), spec.variations.end(),
+                                         [](const Variation& v) { return is_window_input(v.name); });
+  if (varies_window && (varies("domain.size") || varies("particle.position")))
+    throw InputError(fmt::format(
+        "{}: the window inputs (domain_*_diameters) set domain.size and particle.position, which are varied too",
+        origin));
   if (spec.orientations.count > 0 && varies("particle.euler"))
     throw InputError(fmt::format("{}: [orientations] sets particle.euler, which is varied too", origin));
   for (std::size_t i = 0; i < spec.variations.size(); ++i)

@@ -101,6 +101,58 @@ TEST(DerivedInputs, RefusesWhatTheBodyCannotTake) {
             std::string::npos);
 }
 
+// The towed spheroid travels along -z from the window's centre (3, 3, 6) mm; d_eq = d 2.5^(1/3).
+// Each window input must move one pair of faces and keep the rest: the other end's distance and
+// the body's offset from the axis (a seed of 0.1 mm here).
+TEST(DerivedInputs, WindowInputsPlaceTheFacesInEquivalentDiameters) {
+  io::CaseValues v = io::load_case_text(kTowedSpheroid, "test");
+  v.set("particle.position", io::Value(std::vector<double>{3.1e-3, 3.0e-3, 6.0e-3}), "test");
+  const double d_eq = 1.0e-3 * std::cbrt(2.5);
+  study::set_derived_input(v, "domain_width_diameters", 8.0, ".");
+  EXPECT_NEAR(vec(v, "domain.size").x(), 8.0 * d_eq, 1e-15);
+  EXPECT_NEAR(vec(v, "domain.size").y(), 8.0 * d_eq, 1e-15);
+  EXPECT_NEAR(vec(v, "particle.position").x(), 4.0 * d_eq + 0.1e-3, 1e-15);
+  EXPECT_NEAR(vec(v, "particle.position").y(), 4.0 * d_eq, 1e-15);
+  EXPECT_NEAR(vec(v, "domain.size").z(), 12.0e-3, 1e-15);
+
+  study::set_derived_input(v, "domain_ahead_diameters", 3.0, ".");  // ahead = below: the bottom moves
+  EXPECT_NEAR(vec(v, "particle.position").z(), 3.0 * d_eq, 1e-15);
+  EXPECT_NEAR(vec(v, "domain.size").z() - vec(v, "particle.position").z(), 6.0e-3, 1e-15);
+  study::set_derived_input(v, "domain_behind_diameters", 10.0, ".");  // behind = above: the top moves
+  EXPECT_NEAR(vec(v, "particle.position").z(), 3.0 * d_eq, 1e-15);
+  EXPECT_NEAR(vec(v, "domain.size").z(), 13.0 * d_eq, 1e-15);
+}
+
+// Travelling up, ahead is above: a fixed body in an inflow from below (the flow comes from z-, so
+// the body's front faces down) and a free body lighter than the fluid (it rises).
+TEST(DerivedInputs, WindowEndsFollowTheDirectionOfTravel) {
+  io::CaseValues fixed = io::load_case_text(kTowedSpheroid, "test");
+  fixed.set("particle.motion", io::Value(std::string("fixed")), "test");
+  fixed.set("domain.inflow_velocity", io::Value(std::vector<double>{0.0, 0.0, 0.02}), "test");
+  const double d_eq = 1.0e-3 * std::cbrt(2.5);
+  study::set_derived_input(fixed, "domain_ahead_diameters", 4.0, ".");
+  EXPECT_NEAR(vec(fixed, "particle.position").z(), 4.0 * d_eq, 1e-15);
+
+  io::CaseValues rising = io::load_case_text(kFreeSphere, "test");
+  rising.set("particle.density", io::Value(800.0), "test");
+  study::set_derived_input(rising, "domain_ahead_diameters", 2.0, ".");  // d_eq = d = 2 mm
+  EXPECT_NEAR(vec(rising, "particle.position").z(), 6.0e-3, 1e-15);
+  EXPECT_NEAR(vec(rising, "domain.size").z(), 10.0e-3, 1e-15);
+}
+
+TEST(DerivedInputs, WindowInputsNeedTravelAlongZ) {
+  io::CaseValues sideways = io::load_case_text(kTowedSpheroid, "test");
+  sideways.set("particle.towing_velocity", io::Value(std::vector<double>{0.01, 0.0, 0.0}), "test");
+  try {
+    study::set_derived_input(sideways, "domain_width_diameters", 6.0, ".");
+    FAIL() << "a body towed along x was given a window width";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("domain_width_diameters: the body travels along"), std::string::npos);
+  }
+  io::CaseValues towed = io::load_case_text(kTowedSpheroid, "test");
+  EXPECT_THROW(study::set_derived_input(towed, "domain_behind_diameters", 0.0, "."), InputError);
+}
+
 // Kolmogorov-Smirnov statistic of samples against a continuous CDF.
 double ks_statistic(std::vector<double> x, const std::function<double(double)>& cdf) {
   std::sort(x.begin(), x.end());

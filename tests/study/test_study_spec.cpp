@@ -79,6 +79,9 @@ TEST(StudySpec, BadStudiesAreRefusedWholeNamingTheKey) {
   EXPECT_NE(refusal("[vary]\nreynolds = [5]\n").find("neither"), std::string::npos);
   EXPECT_NE(refusal(kBase + "[vary]\nreynolds = [5]\nparticle.towing_velocity = [[0, 0, -1]]\n").find("varied too"),
             std::string::npos);
+  EXPECT_NE(refusal(kBase + "[vary]\ndomain_width_diameters = [6]\ndomain.size = [[0.01, 0.01, 0.02]]\n")
+                .find("window inputs"),
+            std::string::npos);
 }
 
 }  // namespace test_study_spec
