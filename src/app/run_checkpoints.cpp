@@ -26,6 +26,7 @@ constexpr const char* kVtkFilesWritten = "run/vtk_files_written";
 constexpr const char* kThreads = "run/threads";
 constexpr const char* kSamplesBlob = "run/samples";
 constexpr const char* kCaseNameBlob = "run/case_name";
+constexpr const char* kIntervalBlob = "run/interval_sums";
 
 fs::path timeseries_path(const fs::path& run_dir) { return run_dir / "timeseries.csv"; }
 
@@ -133,6 +134,35 @@ std::string signal_name(int signal_number) {
   return fmt::format("signal {}", signal_number);
 }
 
+std::vector<std::byte> interval_record(const coupling::IntervalSums& sums) {
+  RecordWriter out;
+  out.u64(static_cast<std::uint64_t>(sums.steps));
+  for (const body::Wrench* w : {&sums.hydrodynamic, &sums.contact}) {
+    out.vec3(w->force_si);
+    out.vec3(w->torque_si);
+  }
+  return out.take();
+}
+
+// A checkpoint written before the sums were kept has none: the first row after the restart then
+// averages the steps made since.
+coupling::IntervalSums interval_from_record(const coupling::CheckpointCallerData& caller) {
+  coupling::IntervalSums sums;
+  const auto it = caller.blobs.find(kIntervalBlob);
+  if (it == caller.blobs.end()) return sums;
+  RecordReader in(it->second, std::string("caller/blob/") + kIntervalBlob);
+  const std::uint64_t steps = in.u64();
+  if (steps > 9007199254740992ULL)
+    throw CheckpointError(fmt::format("record '{}' of the checkpoint counts {} steps", kIntervalBlob, steps));
+  sums.steps = static_cast<std::int64_t>(steps);
+  for (body::Wrench* w : {&sums.hydrodynamic, &sums.contact}) {
+    w->force_si = in.vec3();
+    w->torque_si = in.vec3();
+  }
+  in.expect_end();
+  return sums;
+}
+
 }  // namespace
 
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples) {
@@ -216,6 +246,7 @@ void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunS
   data.values[kVtkFilesWritten] = static_cast<double>(vtk.files_written);
   data.values[kThreads] = static_cast<double>(omp_get_max_threads());
   data.blobs[kSamplesBlob] = samples_record(loop.samples);
+  data.blobs[kIntervalBlob] = interval_record(loop.interval);
   const auto name = std::as_bytes(std::span(case_name_));
   data.blobs[kCaseNameBlob] = std::vector<std::byte>(name.begin(), name.end());
   coupling::write_checkpoint(sim, data, file_);
@@ -255,6 +286,7 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
       throw CheckpointError(fmt::format("value '{}' of the checkpoint is {}", kThreads, threads));
     threads_ = static_cast<int>(threads);
     loop_.samples = samples_from_record(blob(caller, kSamplesBlob), std::string("caller/blob/") + kSamplesBlob);
+    loop_.interval = interval_from_record(caller);
   } catch (const CheckpointError& e) {
     // Every message names the file (the section readers name only the section).
     const std::string message = e.what();

@@ -35,7 +35,24 @@ std::string progress_line(const Simulation& sim, const TimeControl& time, std::i
 
 }  // namespace
 
-Sample take_sample(const Simulation& sim, double t_si) {
+void IntervalSums::add(const body::Wrench& step_hydrodynamic, const body::Wrench& step_contact) {
+  hydrodynamic.force_si += step_hydrodynamic.force_si;
+  hydrodynamic.torque_si += step_hydrodynamic.torque_si;
+  contact.force_si += step_contact.force_si;
+  contact.torque_si += step_contact.torque_si;
+  ++steps;
+}
+
+namespace {
+
+body::Wrench mean_of(const body::Wrench& sum, std::int64_t steps) {
+  const double n = static_cast<double>(steps);
+  return {sum.force_si / n, sum.torque_si / n};
+}
+
+}  // namespace
+
+Sample take_sample(const Simulation& sim, double t_si, const IntervalSums& interval) {
   const auto& state = sim.body().state();
   Sample s;
   s.t_si = t_si;
@@ -44,13 +61,16 @@ Sample take_sample(const Simulation& sim, double t_si) {
   s.angular_velocity_b_si = state.angular_velocity_b_si;
   s.angular_velocity_n_si = sim.body().angular_velocity_n_si();
   s.attitude = state.attitude;
-  s.hydrodynamic = sim.steps() > 0 ? sim.last_step().hydrodynamic : body::Wrench{};
   s.slip_max_si = sim.last_step().slip_max_si;
   s.slip_rms_si = sim.last_step().slip_rms_si;
-  if (sim.steps() > 0) {
+  if (interval.steps > 0) {
+    s.hydrodynamic = mean_of(interval.hydrodynamic, interval.steps);
+    s.contact = mean_of(interval.contact, interval.steps);
+  } else if (sim.steps() > 0) {
+    s.hydrodynamic = sim.last_step().hydrodynamic;
     s.contact = sim.last_step().contact;
-    s.wall_gap_si = sim.last_step().wall_gap_si;
   }
+  if (sim.steps() > 0) s.wall_gap_si = sim.last_step().wall_gap_si;
   // The far field: the stream entering at an inlet, else the driven flow around a fixed body and
   // fluid at rest around a moving one.
   if (sim.setup().inflow) {
@@ -95,13 +115,15 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
   RunResult result;
   result.samples = std::move(start.samples);
   result.extremes = start.extremes;
+  IntervalSums interval = start.interval;
   const auto segment_start = Clock::now();
   const auto wall_so_far = [&] { return start.wall_seconds + seconds_since(segment_start); };
   double next_progress_s = progress_interval_wall_s;
 
   std::string stop_reason;
   const auto record_sample = [&] {
-    result.samples.push_back(take_sample(sim, time.time_si()));
+    result.samples.push_back(take_sample(sim, time.time_si(), interval));
+    interval = IntervalSums{};
     if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
     const HealthReport health = check_health(sim);
     result.extremes.density_deviation = std::max(
@@ -123,7 +145,8 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
   const auto hand_over_checkpoint = [&] {
     // The samples are lent to the state rather than copied (a long run holds many); they come back
     // before anything else reads them.
-    RunStart state{time.step(), output.next_index(), std::move(result.samples), wall_so_far(), result.extremes};
+    RunStart state{time.step(),   output.next_index(), std::move(result.samples),
+                   wall_so_far(), result.extremes,     interval};
     callbacks.checkpoint_due(state);
     result.samples = std::move(state.samples);
     last_checkpoint_wall_s = seconds_since(segment_start);
@@ -138,6 +161,7 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
       break;
     }
     sim.step();
+    interval.add(sim.last_step().hydrodynamic, sim.last_step().contact);
     time.advance();
     sample_if_due();
     const std::array<bool, 2> wall_events = decided_together(

@@ -24,23 +24,38 @@ struct Sample {
   Eigen::Vector3d angular_velocity_n_si = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_b_si = Eigen::Vector3d::Zero();
   attitude::Attitude attitude;
-  body::Wrench hydrodynamic;  ///< of the last step (zero at t = 0)
+  body::Wrench hydrodynamic;  ///< mean over the steps since the previous sample (zero at t = 0)
   /// Speed of the flow relative to the body times d_eq / nu. Fixed bodies: the superficial
   /// velocity (the driven flow); others: the body's velocity (fluid at rest far away).
   double reynolds = 0.0;
   Eigen::Vector3d relative_flow_si = Eigen::Vector3d::Zero();  ///< far-field fluid minus body velocity
   double slip_max_si = 0.0;
   double slip_rms_si = 0.0;
-  /// Particle-wall contact of the last step (StepObservation::contact): impulse / dt, zero away
-  /// from walls and at t = 0.
+  /// Particle-wall contact (StepObservation::contact: impulse / dt), mean over the steps since the
+  /// previous sample: the impulse over the interval / its length; zero away from walls and at t = 0.
   body::Wrench contact;
   /// Smallest body-wall gap of the last step's corrector, m; infinity without contact walls (a
   /// following window, periodic axes, contact off, towed or fixed bodies) and at t = 0.
   double wall_gap_si = std::numeric_limits<double>::infinity();
 };
 
-/// Takes a sample of the simulation's current state.
-Sample take_sample(const Simulation& simulation, double t_si);
+/// The hydrodynamic and contact wrenches summed over the steps since the last sample. A row records
+/// their means over its interval, so that a mean over rows is a time mean whatever the output
+/// interval: the momentum exchange's force jumps from step to step as the body crosses cells, and
+/// rows a whole number of cells of travel apart would all see the same phase of that cycle (a
+/// towed sphere's drag came out 1.9 times too large so, docs/notes.md).
+struct IntervalSums {
+  body::Wrench hydrodynamic;
+  body::Wrench contact;
+  std::int64_t steps = 0;
+
+  void add(const body::Wrench& step_hydrodynamic, const body::Wrench& step_contact);
+};
+
+/// Takes a sample of the simulation's current state; its wrenches are the means of `interval`,
+/// or the last step's when the interval holds no step (a continued run whose checkpoint predates
+/// the sums), zero at t = 0.
+Sample take_sample(const Simulation& simulation, double t_si, const IntervalSums& interval = {});
 
 /// The largest values the health check (coupling/health.hpp) met at the output times of a run:
 /// how close the run came to its limits (summary.json "fluid_health").
@@ -58,6 +73,7 @@ struct RunStart {
   std::vector<Sample> samples;         ///< recorded so far (RunResult::samples: the summary's data)
   double wall_seconds = 0.0;           ///< wall time of the run so far (earlier segments)
   RunExtremes extremes;                ///< of the health checks so far (earlier segments)
+  IntervalSums interval;               ///< the wrenches since the last sample
 };
 
 struct RunCallbacks {
