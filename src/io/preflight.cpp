@@ -18,6 +18,7 @@
 #include "coupling/immersed_body.hpp"
 #include "coupling/runner.hpp"
 #include "ibm/delta.hpp"
+#include "io/window_advice.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 
@@ -216,7 +217,8 @@ double sample_count(const coupling::SimulationSetup& s, double steps) {
 // 0.512, stable at 0.55). An advisory, not an error: the threshold is measured, not derived.
 constexpr double kTrtInletStableTau = 0.52;
 
-std::vector<std::string> advisories(const coupling::SimulationSetup& s, double dx_si, double dt_si, double tau) {
+std::vector<std::string> advisories(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
+  const double dx_si = plan.units.dx_si(), dt_si = plan.units.dt_si(), tau = plan.units.tau();
   std::vector<std::string> out;
   if (s.inflow && s.collision == lbm::CollisionKind::trt && tau < kTrtInletStableTau)
     out.push_back(
@@ -232,6 +234,7 @@ std::vector<std::string> advisories(const coupling::SimulationSetup& s, double d
                     "axis; below 2 cells the immersed boundary smears it out (raise "
                     "numerics.cells_per_diameter)",
                     thinnest_cells));
+  if (auto window = window_advice(s, plan.equivalent_diameter_si, plan.reynolds)) out.push_back(*window);
   if (s.end_time_si < dt_si)
     out.push_back(
         fmt::format("run.end_time: {} s is shorter than one time step (dt = {:.4g} s); the run makes one step",
@@ -435,7 +438,7 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   if (r.memory_budget_bytes) check_memory(r.memory, *r.memory_budget_bytes, r.memory_budget_source);
 
   if (!options.output_directory.empty()) check_output_directory(options.output_directory);
-  r.warnings = advisories(s, dx_si, dt_si, r.plan.units.tau());
+  r.warnings = advisories(s, r.plan);
   return r;
 }
 

@@ -36,7 +36,9 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 // One run shared by the tests: the default case (a prolate spheroid of aspect ratio 2 released
 // 0.5 rad from vertical, rho_p/rho_f = 1.1) in a fluid 15 times more viscous than water, so
-// that Re = 0.35 and the response time is 9 ms.
+// that Re = 0.35 and the response time is 9 ms, in the default case's earlier window (6 d_eq wide,
+// 3 from the axis): at this Reynolds number the walls' hold on the flow sets how fast the speed
+// settles, and in today's 8 d_eq window it still creeps by more than the detector's 1% at 0.2 s.
 class AnalyzeCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -44,6 +46,8 @@ class AnalyzeCli : public ::testing::Test {
     fs::remove_all(run_dir_);
     const auto r = run_settle("run", "-o " + run_dir_.string() +
                                          " --set fluid.dynamic_viscosity=0.015 --set run.end_time=0.2"
+                                         " --set 'domain.size=[7.56e-3,7.56e-3,15.12e-3]'"
+                                         " --set 'particle.position=[3.78e-3,3.78e-3,7.56e-3]'"
                                          " --set run.output_interval=0.002 --threads 1");
     run_status_ = r.status;
     run_err_ = r.err;

@@ -22,6 +22,7 @@
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
 #include "io/preflight.hpp"
+#include "io/window_advice.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
@@ -384,6 +385,70 @@ TEST(Preflight, WarnsOfAnInletUnderTrtAtLowTauOnly) {
   s.inflow.reset();
   s.outflow.reset();
   EXPECT_EQ(inlet_warnings(preflight(s)), 0);
+}
+
+// ---- the window's room (io/window_advice.hpp) ------------------------------------------------------
+
+// The clearances of a 1 mm sphere in the small box, measured from its centre in diameters.
+TEST(WindowAdvice, ClearancesAreMeasuredAlongTheTravelFromTheCentre) {
+  coupling::SimulationSetup s = small_setup();
+  s.motion = body::MotionKind::towed;
+  s.initial.velocity_si = {0.0, 0.0, -0.02};
+  s.initial.position_si = {2.0e-3, 1.5e-3, 2.0e-3};
+  s.follow_particle = true;
+  auto c = case_clearance(s, 1.0e-3);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->side_d, 1.5, 1e-12);    // y: 1.5 mm to the face at 0
+  EXPECT_NEAR(c->ahead_d, 2.0, 1e-12);   // travelling down: the bottom face
+  EXPECT_NEAR(c->behind_d, 4.0, 1e-12);  // 6 - 2 mm above
+
+  // A fixed body in a stream entering at z-: upstream is ahead.
+  s.motion = body::MotionKind::fixed;
+  s.follow_particle = false;
+  s.boundaries = {lbm::Boundary::free_slip, lbm::Boundary::free_slip, lbm::Boundary::no_slip};
+  s.inflow = lbm::Face{2, 0};
+  s.outflow = lbm::Face{2, 1};
+  s.inflow_velocity_si = {0.0, 0.0, 0.02};
+  c = case_clearance(s, 1.0e-3);
+  EXPECT_NEAR(c->ahead_d, 2.0, 1e-12);
+  EXPECT_NEAR(c->behind_d, 4.0, 1e-12);
+
+  // A free body in a closed tank that stays put: every face is part of the problem.
+  s = small_setup();
+  c = case_clearance(s, 1.0e-3);
+  EXPECT_TRUE(std::isinf(c->side_d) && std::isinf(c->ahead_d) && std::isinf(c->behind_d));
+  // Travel off the grid's axes: no clearance to speak of.
+  s.gravity_si = {-5.0, 0.0, -5.0};
+  EXPECT_FALSE(case_clearance(s, 1.0e-3).has_value());
+}
+
+// Between the measured Reynolds numbers the need is interpolated linearly in log Re: at the
+// geometric mean of two, the mean of their clearances.
+TEST(WindowAdvice, NeedIsInterpolatedInLogReynolds) {
+  const WindowClearance a = needed_clearance(20.0), b = needed_clearance(100.0);
+  const WindowClearance m = needed_clearance(std::sqrt(20.0 * 100.0));
+  EXPECT_NEAR(m.behind_d, 0.5 * (a.behind_d + b.behind_d), 1e-12);
+  EXPECT_NEAR(m.ahead_d, 0.5 * (a.ahead_d + b.ahead_d), 1e-12);
+  EXPECT_EQ(needed_clearance(5.0).behind_d, a.behind_d);  // the nearest end outside
+  EXPECT_EQ(needed_clearance(1000.0).behind_d, needed_clearance(300.0).behind_d);
+}
+
+TEST(WindowAdvice, ATightWindowIsToldWhichFacesAndATankIsNot) {
+  coupling::SimulationSetup s = small_setup();
+  s.motion = body::MotionKind::towed;
+  s.initial.velocity_si = {0.0, 0.0, -0.02};
+  s.follow_particle = true;
+  s.boundaries = {lbm::Boundary::free_slip, lbm::Boundary::free_slip, lbm::Boundary::no_slip};
+  const auto tight = window_advice(s, 1.0e-3, 20.0);  // sides 2 d from the centre
+  ASSERT_TRUE(tight.has_value());
+  EXPECT_TRUE(contains(*tight, "domain.size")) << *tight;
+  EXPECT_TRUE(contains(*tight, "sides 2.0 d_eq")) << *tight;
+  const WindowClearance need = needed_clearance(20.0);
+  s.domain_size_si = {2.0e-3 * need.side_d + 1e-4, 2.0e-3 * need.side_d + 1e-4,
+                      1.0e-3 * (need.ahead_d + need.behind_d) + 1e-4};
+  s.initial.position_si = {0.5 * s.domain_size_si.x(), 0.5 * s.domain_size_si.y(), 1.0e-3 * need.ahead_d + 5e-5};
+  EXPECT_FALSE(window_advice(s, 1.0e-3, 20.0).has_value());
+  EXPECT_FALSE(window_advice(small_setup(), 1.0e-3, 20.0).has_value());  // the tank
 }
 
 // ---- output directory ----------------------------------------------------------------------------
