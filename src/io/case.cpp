@@ -123,12 +123,6 @@ std::array<double, N> array_of(const CaseValues& v, std::string_view key) {
   return a;
 }
 
-body::MotionKind motion_kind(const std::string& name) {
-  if (name == "towed") return body::MotionKind::towed;
-  if (name == "fixed") return body::MotionKind::fixed;
-  return body::MotionKind::free;
-}
-
 lbm::Boundary wall(const CaseValues& v, std::string_view key) {
   const std::string& name = v.string(key);
   if (name == "periodic") return lbm::Boundary::periodic;
@@ -137,6 +131,12 @@ lbm::Boundary wall(const CaseValues& v, std::string_view key) {
 }
 
 }  // namespace
+
+body::MotionKind motion_kind(const std::string& name) {
+  if (name == "towed") return body::MotionKind::towed;
+  if (name == "fixed") return body::MotionKind::fixed;
+  return body::MotionKind::free;
+}
 
 body::ShapeSpec shape_spec(const CaseValues& v) {
   body::ShapeSpec spec;

@@ -26,6 +26,10 @@ CaseValues load_case_text(std::string_view toml_text, std::string_view origin);
 /// used by `settle run`, `settle shape` and `settle predict`.
 body::ShapeSpec shape_spec(const CaseValues& values);
 
+/// The body's motion of a particle.motion value ("free", "towed", "fixed"; the schema refuses
+/// any other).
+body::MotionKind motion_kind(const std::string& name);
+
 /// The simulation set-up of a checked case. Relative mesh paths are taken relative to
 /// `base_directory` (the case file's folder). Keys that depend on each other are checked here
 /// (settle::InputError naming the key): towing_velocity for towed bodies, domain.size.

@@ -26,23 +26,23 @@ constexpr std::array<MeasuredClearance, 3> kMeasured{{
     {300.0, {4.0, 5.0, 6.0}},
 }};
 
-// The direction of travel relative to the fluid, as in the study's window inputs.
-Eigen::Vector3d travel_direction(const coupling::SimulationSetup& s) {
-  switch (s.motion) {
-    case body::MotionKind::towed:
-      return s.initial.velocity_si.normalized();
-    case body::MotionKind::fixed:
-      return -s.inflow_velocity_si.normalized();
-    case body::MotionKind::free:
-      break;
-  }
-  const double sign = s.particle_density_si >= s.fluid_density_si ? 1.0 : -1.0;
-  return sign * s.gravity_si.normalized();
-}
-
 constexpr double kFar = std::numeric_limits<double>::infinity();
 
 }  // namespace
+
+Eigen::Vector3d travel_direction(body::MotionKind motion, const Eigen::Vector3d& towing_velocity,
+                                 const Eigen::Vector3d& inflow_velocity, const Eigen::Vector3d& gravity,
+                                 bool lighter_than_fluid) {
+  switch (motion) {
+    case body::MotionKind::towed:
+      return towing_velocity.normalized();
+    case body::MotionKind::fixed:
+      return -inflow_velocity.normalized();
+    case body::MotionKind::free:
+      break;
+  }
+  return (lighter_than_fluid ? -1.0 : 1.0) * gravity.normalized();
+}
 
 WindowClearance needed_clearance(double reynolds) {
   if (!(reynolds > kMeasured.front().reynolds)) return kMeasured.front().clearance;
@@ -58,7 +58,8 @@ WindowClearance needed_clearance(double reynolds) {
 }
 
 std::optional<WindowClearance> case_clearance(const coupling::SimulationSetup& s, double d_eq_si) {
-  const Eigen::Vector3d travel = travel_direction(s);
+  const Eigen::Vector3d travel = travel_direction(s.motion, s.initial.velocity_si, s.inflow_velocity_si, s.gravity_si,
+                                                  s.particle_density_si < s.fluid_density_si);
   if (!travel.allFinite()) return std::nullopt;
   int axis = 0;
   travel.cwiseAbs().maxCoeff(&axis);

@@ -18,6 +18,13 @@ struct WindowClearance {
   double behind_d = 0.0;  ///< to the face behind it: the wake's room
 };
 
+/// The direction a body travels relative to the fluid: its towing direction, against a fixed body's
+/// inflow, along gravity for a free body heavier than the fluid and against it for a lighter one.
+/// The zero vector when the vector it follows is zero.
+Eigen::Vector3d travel_direction(body::MotionKind motion, const Eigen::Vector3d& towing_velocity,
+                                 const Eigen::Vector3d& inflow_velocity, const Eigen::Vector3d& gravity,
+                                 bool lighter_than_fluid);
+
 /// What the studies found enough at this Reynolds number: their clearance at Re = 20, 100 or 300,
 /// linear in log Re between, and the nearest end's outside (below Re = 20 the sides' influence
 /// decays more slowly still, so more room is needed there than this says).

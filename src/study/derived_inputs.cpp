@@ -11,6 +11,7 @@
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
 #include "io/case.hpp"
+#include "io/window_advice.hpp"
 
 namespace settle::study {
 namespace {
@@ -108,18 +109,17 @@ void set_travel(io::CaseValues& values, double diameters, const std::filesystem:
              "study");
 }
 
-// The direction the body travels relative to the fluid: its towing direction, against a fixed
-// body's inflow, or along gravity for a free body (against it for one lighter than the fluid). The window inputs need it along z, the axis
-// along which settle's windows are long and follow their body.
+// +1 or -1: the body's direction of travel relative to the fluid (io::travel_direction) along z,
+// the axis along which settle's windows are long and follow their body, as the window inputs need.
 double travel_sign_along_z(const io::CaseValues& values, std::string_view name) {
-  const std::string& motion = values.string("particle.motion");
-  Eigen::Vector3d travel = towing_direction(values);
-  if (motion == "free" && values.real("particle.density") < values.real("fluid.density")) travel = -travel;
-  if (motion == "fixed") {
-    if (!values.has("domain.inflow_velocity") || vector3(values, "domain.inflow_velocity").norm() <= 0.0)
-      throw InputError(fmt::format("{}: the base case's body is fixed without an inflow, so it has no front", name));
-    travel = -vector3(values, "domain.inflow_velocity").normalized();
-  }
+  const body::MotionKind motion = io::motion_kind(values.string("particle.motion"));
+  const Eigen::Vector3d inflow =
+      values.has("domain.inflow_velocity") ? vector3(values, "domain.inflow_velocity") : Eigen::Vector3d::Zero();
+  if (motion == body::MotionKind::fixed && inflow.norm() <= 0.0)
+    throw InputError(fmt::format("{}: the base case's body is fixed without an inflow, so it has no front", name));
+  const Eigen::Vector3d travel =
+      io::travel_direction(motion, towing_direction(values), inflow, vector3(values, "fluid.gravity"),
+                           values.real("particle.density") < values.real("fluid.density"));
   if (std::abs(travel.z()) < 1.0 - 1e-12)
     throw InputError(
         fmt::format("{}: the body travels along ({:.3g}, {:.3g}, {:.3g}), not along the z axis, the "
