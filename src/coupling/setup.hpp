@@ -48,6 +48,7 @@ struct SimulationSetup {
   double cells_per_diameter = 16.0;
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
+  double trt_magic = lbm::kWallExactTrtMagic;  ///< TRT only: Lambda = (tau+ - 1/2)(tau- - 1/2)
   lbm::Precision precision = lbm::kDefaultPrecision;
   CouplingKind coupling = kDefaultCoupling;
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;      ///< momentum exchange only

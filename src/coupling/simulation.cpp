@@ -120,6 +120,7 @@ lbm::SolverConfig Simulation::fluid_config() const {
   lbm::SolverConfig config;
   config.lattice = setup_.lattice;
   config.collision = setup_.collision;
+  config.magic = setup_.trt_magic;
   config.precision = setup_.precision;
   config.nx = derived_.cells[0];
   config.ny = derived_.cells[1];

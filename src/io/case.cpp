@@ -82,6 +82,17 @@ std::vector<std::string> coupling_key_warnings(const CaseValues& v) {
   return warnings;
 }
 
+// numerics.trt_magic set away from its default with another collision operator changes nothing.
+std::vector<std::string> collision_key_warnings(const CaseValues& v) {
+  const KeySpec* spec = v.schema().find("numerics.trt_magic");
+  const bool set = v.has("numerics.trt_magic") && v.value("numerics.trt_magic") != *spec->default_value;
+  if (!set || v.string("numerics.collision") == "trt") return {};
+  return {
+      fmt::format("numerics.trt_magic: read only with numerics.collision = \"trt\"; this case uses \"{}\", "
+                  "so it has no effect",
+                  v.string("numerics.collision"))};
+}
+
 std::string read_file(const std::filesystem::path& path) {
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
@@ -250,6 +261,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.cells_per_diameter = v.real("numerics.cells_per_diameter");
   s.lattice = lbm::parse_lattice(v.string("numerics.lattice"), "numerics.lattice");
   s.collision = lbm::parse_collision(v.string("numerics.collision"), "numerics.collision");
+  s.trt_magic = v.real("numerics.trt_magic");
   s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
   s.coupling = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
   s.wall_rule = v.string("numerics.wall_rule") == "halfway" ? lbm::WallRule::halfway : lbm::WallRule::bouzidi;
@@ -279,6 +291,7 @@ std::vector<std::string> unsupported_key_warnings(const CaseValues& v) {
   std::vector<std::string> warnings;
   for (std::string& w : fluid_preset_warnings(v)) warnings.push_back(std::move(w));
   for (std::string& w : coupling_key_warnings(v)) warnings.push_back(std::move(w));
+  for (std::string& w : collision_key_warnings(v)) warnings.push_back(std::move(w));
   return warnings;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "coupling/body_coupling.hpp"
+#include "lbm/config.hpp"
 
 namespace settle::io {
 namespace {
@@ -116,6 +117,11 @@ std::vector<KeySpec> declare() {
            "grid cells per volume-equivalent diameter"),
       choice("numerics.lattice", "D3Q19", {"D3Q19", "D3Q27"}, "lattice"),
       choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized"}, "collision model"),
+      // Up to 1: the values in use (1/12, 1/6, 3/16, 1/4) lie well inside; larger ones move the
+      // walls of a coarse grid and slow the odd moments' relaxation without known use.
+      real("numerics.trt_magic", Value(lbm::kWallExactTrtMagic), "", {0.0, 1.0, false, true},
+           "TRT's magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2): 3/16 puts half-way walls mid-way for any "
+           "viscosity; 1/12 keeps a velocity inlet stable at lower tau (docs/lbm.md)"),
       choice("numerics.precision", default_precision.c_str(), {"double", "float"},
              "storage precision of the populations"),
       choice("numerics.coupling", default_coupling.c_str(), {"immersed_boundary", "momentum_exchange"},

@@ -52,6 +52,10 @@ struct OpenFace {
 };
 
 /// Everything the factory needs. Axis order of `boundaries` is x, y, z.
+/// The TRT magic parameter that puts half-way bounce-back walls exactly mid-way between nodes for
+/// any viscosity (Ginzburg et al. 2008): the default of the solver and of a case.
+inline constexpr double kWallExactTrtMagic = 3.0 / 16.0;
+
 struct SolverConfig {
   LatticeKind lattice = LatticeKind::D3Q19;
   CollisionKind collision = CollisionKind::trt;
@@ -65,9 +69,8 @@ struct SolverConfig {
   /// Velocity of every velocity face (lattice units; |u| below 0.3 for a Mach number under 0.5).
   Eigen::Vector3d inflow_velocity = Eigen::Vector3d::Zero();
   double tau = 0.8;  ///< relaxation time of the shear viscosity, nu = cs^2 (tau - 1/2)
-  /// TRT magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2). 3/16 puts half-way bounce-back
-  /// walls exactly mid-way between nodes for any viscosity (Ginzburg et al. 2008).
-  double magic = 3.0 / 16.0;
+  /// TRT magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2).
+  double magic = kWallExactTrtMagic;
   Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  ///< uniform force density
   /// Set when the solver holds one block of a split lattice: nx, ny, nz are then that block's
   /// extent, while `boundaries` and `open_faces` describe the faces of the whole lattice.

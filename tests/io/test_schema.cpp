@@ -236,6 +236,33 @@ TEST(CaseSchema, EveryNumericsChoiceIsOneTheFluidSolverAccepts) {
     EXPECT_NO_THROW(lbm::parse_precision(name, "numerics.precision")) << name;
 }
 
+// TRT's magic parameter reaches the solver's set-up, and set with another operator it is reported
+// (it would change nothing); at its default, as a resolved case writes it, it is not.
+TEST(CaseSchema, TrtMagicReachesTheSetupAndIsReportedUnderAnotherOperator) {
+  const std::string base =
+      "[fluid]\ndensity = 1000\ndynamic_viscosity = 1e-3\n[particle]\nshape = \"sphere\"\ndiameter = 1e-3\n"
+      "density = 2500\n[domain]\nsize = [8e-3, 8e-3, 8e-3]\n[numerics]\n";
+  const auto values_of = [&base](const std::string& numerics) {
+    return parse_case(case_schema(), base + numerics, "case.toml");
+  };
+  EXPECT_EQ(simulation_setup(values_of("trt_magic = 0.0833333\n"), ".", "c").trt_magic, 0.0833333);
+  EXPECT_EQ(simulation_setup(values_of(""), ".", "c").trt_magic, lbm::kWallExactTrtMagic);
+  EXPECT_TRUE(unsupported_key_warnings(values_of("trt_magic = 0.0833333\n")).empty());
+  const auto bgk = unsupported_key_warnings(values_of("collision = \"bgk\"\ntrt_magic = 0.0833333\n"));
+  ASSERT_EQ(bgk.size(), 1u);
+  EXPECT_NE(bgk[0].find("numerics.trt_magic"), std::string::npos) << bgk[0];
+  EXPECT_TRUE(unsupported_key_warnings(values_of("collision = \"bgk\"\ntrt_magic = 0.1875\n")).empty());
+  for (const char* bad : {"trt_magic = 0.0\n", "trt_magic = 1.5\n", "trt_magic = -0.1\n"}) {
+    try {
+      values_of(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("[numerics] trt_magic"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("(0.0, 1.0]"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A key that only the other coupling reads is reported when the case sets it away from its default
 // (it would change nothing); a resolved case, which writes every key at its value, is not.
 TEST(CaseSchema, KeysOfTheOtherCouplingAreReportedWhenSetAwayFromTheirDefault) {
