@@ -121,7 +121,7 @@ std::vector<KeySpec> declare() {
       // walls of a coarse grid and slow the odd moments' relaxation without known use.
       real("numerics.trt_magic", Value(lbm::kWallExactTrtMagic), "", {0.0, 1.0, false, true},
            "TRT's magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2): 3/16 puts half-way walls mid-way for any "
-           "viscosity; 1/12 keeps a velocity inlet stable at lower tau (docs/lbm.md)"),
+           "viscosity (docs/lbm.md)"),
       choice("numerics.precision", default_precision.c_str(), {"double", "float"},
              "storage precision of the populations"),
       choice("numerics.coupling", default_coupling.c_str(), {"immersed_boundary", "momentum_exchange"},

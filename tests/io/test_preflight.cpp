@@ -361,33 +361,26 @@ TEST(Preflight, AnExplicitBudgetReplacesMemAvailable) {
   EXPECT_EQ(preflight(s, options).memory_budget_source, "--max-memory");
 }
 
-// The inlet under TRT with magic 3/16 diverged below tau = 0.52; with magic 1/12 it held at 0.512
-// and diverged at 0.508 (docs/lbm.md, Inlets and outlets): a run set up so is told, once, and only
-// then.
+// The inlet under TRT diverged below tau = 0.52, with magic 1/12 later than with 3/16 but as surely
+// (docs/lbm.md, Inlets and outlets): a run set up so is told, once, and only then.
 TEST(Preflight, WarnsOfAnInletUnderTrtAtLowTauOnly) {
   coupling::SimulationSetup s = small_setup();
   s.inflow = lbm::Face{2, 0};
   s.inflow_velocity_si = {0.0, 0.0, 0.01};
   s.outflow = lbm::Face{2, 1};
-  s.tau = 0.515;
+  s.tau = 0.51;
   const auto inlet_warnings = [](const PreflightReport& r) {
     return std::count_if(r.warnings.begin(), r.warnings.end(),
                          [](const std::string& w) { return contains(w, "recursive_regularized"); });
   };
   const PreflightReport low = preflight(s);
   ASSERT_EQ(inlet_warnings(low), 1) << (low.warnings.empty() ? "" : low.warnings[0]);
-  EXPECT_TRUE(contains(low.warnings[0], "tau = 0.5150")) << low.warnings[0];
-  EXPECT_TRUE(contains(low.warnings[0], "numerics.trt_magic = 0.0833333")) << low.warnings[0];
+  EXPECT_TRUE(contains(low.warnings[0], "tau = 0.5100")) << low.warnings[0];
+  s.trt_magic = 1.0 / 12.0;
+  EXPECT_EQ(inlet_warnings(preflight(s)), 1);
   s.collision = lbm::CollisionKind::recursive_regularized;
   EXPECT_EQ(inlet_warnings(preflight(s)), 0);
   s.collision = lbm::CollisionKind::trt;
-  s.trt_magic = 1.0 / 12.0;
-  EXPECT_EQ(inlet_warnings(preflight(s)), 0);
-  s.tau = 0.508;
-  const PreflightReport lower = preflight(s);
-  ASSERT_EQ(inlet_warnings(lower), 1);
-  EXPECT_FALSE(contains(lower.warnings[0], "numerics.trt_magic =")) << lower.warnings[0];
-  s.trt_magic = lbm::kWallExactTrtMagic;
   s.tau = 0.53;
   EXPECT_EQ(inlet_warnings(preflight(s)), 0);
   s.tau = 0.51;
