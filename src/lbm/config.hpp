@@ -51,11 +51,11 @@ struct OpenFace {
   Boundary kind = Boundary::outflow;
 };
 
-/// Everything the factory needs. Axis order of `boundaries` is x, y, z.
 /// The TRT magic parameter that puts half-way bounce-back walls exactly mid-way between nodes for
 /// any viscosity (Ginzburg et al. 2008): the default of the solver and of a case.
 inline constexpr double kWallExactTrtMagic = 3.0 / 16.0;
 
+/// Everything the factory needs. Axis order of `boundaries` is x, y, z.
 struct SolverConfig {
   LatticeKind lattice = LatticeKind::D3Q19;
   CollisionKind collision = CollisionKind::trt;
