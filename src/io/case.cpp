@@ -54,6 +54,12 @@ stop_at_terminal = false
 output_interval = 0.005
 )toml";
 
+// True when the case sets `key` to a value other than its schema default.
+bool set_away_from_default(const CaseValues& v, std::string_view key) {
+  const KeySpec* spec = v.schema().find(key);
+  return v.has(key) && (!spec->default_value || v.value(key) != *spec->default_value);
+}
+
 // Keys that one coupling reads and the other ignores: set away from their default for the other,
 // they change nothing, which a case written before the default coupling changed would not show.
 // (A resolved case writes every key at its default: those are not reported.)
@@ -69,12 +75,8 @@ std::vector<std::string> coupling_key_warnings(const CaseValues& v) {
   const std::span<const std::string_view> ignored = immersed ? std::span<const std::string_view>(kMomentumExchangeKeys)
                                                              : std::span<const std::string_view>(kImmersedBoundaryKeys);
   std::vector<std::string> warnings;
-  const auto set_away_from_default = [&v](std::string_view key) {
-    const KeySpec* spec = v.schema().find(key);
-    return v.has(key) && (!spec->default_value || v.value(key) != *spec->default_value);
-  };
   for (std::string_view key : ignored)
-    if (set_away_from_default(key))
+    if (set_away_from_default(v, key))
       warnings.push_back(
           fmt::format("{}: read only with numerics.coupling = \"{}\"; this case couples by {}, so it has "
                       "no effect",
@@ -84,9 +86,7 @@ std::vector<std::string> coupling_key_warnings(const CaseValues& v) {
 
 // numerics.trt_magic set away from its default with another collision operator changes nothing.
 std::vector<std::string> collision_key_warnings(const CaseValues& v) {
-  const KeySpec* spec = v.schema().find("numerics.trt_magic");
-  const bool set = v.has("numerics.trt_magic") && v.value("numerics.trt_magic") != *spec->default_value;
-  if (!set || v.string("numerics.collision") == "trt") return {};
+  if (!set_away_from_default(v, "numerics.trt_magic") || v.string("numerics.collision") == "trt") return {};
   return {
       fmt::format("numerics.trt_magic: read only with numerics.collision = \"trt\"; this case uses \"{}\", "
                   "so it has no effect",
