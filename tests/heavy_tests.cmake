@@ -23,6 +23,9 @@ set_tests_properties(
   PeriodicSphereArray.MomentumExchangeDilutePhi0065At16CellsPerDiameter       # 347 / 87
   LbmCurvedWalls.HalfwayBounceBackOnTheSameFlowIsFirstOrderAndLessAccurate    # 136 / 5.7
   LbmCurvedWalls.InterpolatedBounceBackConvergesAtSecondOrderOnCouetteFlow    # 77 / 2.8
+  # 2026-11-28, release beside a one-thread run; the linear rule's tests' grids, so about as slow.
+  LbmCurvedWalls.QuadraticInterpolationConvergesAtSecondOrder                 # (not measured) / 3.2
+  LbmCurvedWalls.QuadraticInterpolationHalvesTheLinearRulesErrorAtLowTauUnderRecursiveRegularisation  # (not measured) / 9.2
   Release.HeldBodyMovesAsTheTowedOneUntilItsReleaseThenSlowsTowardsItsTerminalSpeed  # 51 / 4.0
   # Measured 2026-11-26 on a clean clone's CI run (the sanitizer stage at 940 s took the command to
   # within a minute of its budget). The kernels and couplings they run stay under the sanitizers

@@ -91,7 +91,7 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       number("particle volume (m^3)", m.volume),
       {"coupling (numerics.coupling)", static_cast<double>(static_cast<int>(s.coupling)), to_string(s.coupling)},
       {"wall rule (numerics.wall_rule)", static_cast<double>(static_cast<int>(s.wall_rule)),
-       s.wall_rule == lbm::WallRule::bouzidi ? "bouzidi" : "halfway"},
+       lbm::to_string(s.wall_rule)},
       {"covered cells' torque (numerics.covered_cell_torque)", s.covered_cell_torque ? 1.0 : 0.0,
        s.covered_cell_torque ? "true" : "false"},
       face_entry("inflow face", s.inflow),

@@ -264,7 +264,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.trt_magic = v.real("numerics.trt_magic");
   s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
   s.coupling = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
-  s.wall_rule = v.string("numerics.wall_rule") == "halfway" ? lbm::WallRule::halfway : lbm::WallRule::bouzidi;
+  s.wall_rule = lbm::parse_wall_rule(v.string("numerics.wall_rule"), "numerics.wall_rule");
   s.covered_cell_torque = v.boolean("numerics.covered_cell_torque");
   s.kernel = ibm::delta_kernel_from_string(v.string("numerics.delta_kernel"), "numerics.delta_kernel");
   s.forcing_iterations = static_cast<int>(v.integer("numerics.forcing_iterations"));

@@ -843,7 +843,8 @@ class AaSolver final : public Solver {
   }
 
   /// A wall link in slot terms. The population coming back from the wall,
-  ///   f_back = a f*_i(x) + b f*_i(x - c_i) + c f*_opp(i)(x) + wall,
+  ///   f_back = a f*_i(x) + b f*_i(x - c_i) + c f*_opp(i)(x)
+  ///          + b2 f*_i(x - 2 c_i) + c2 f*_opp(i)(x - c_i) + wall,
   /// goes where the next kernel reads f_opp(i)(x) (docs/lbm.md, "Walls inside the grid").
   struct PreparedLink {
     // Padded indices, unwrapped: x +- c_i may be a ghost (a periodic image or a cell of an adjacent
@@ -853,10 +854,15 @@ class AaSolver final : public Solver {
     std::size_t solid = 0;   ///< x + c_i
     std::size_t second = 0;  ///< x - c_i when it is fluid (read only when b != 0), else x
     std::size_t behind = 0;  ///< x - c_i: where the odd kernel puts f*_opp(i)(x)
+    std::size_t third = 0;   ///< x - 2 c_i when the quadratic rule reads it (b2 or c2 != 0), else x
     int dir = 0;
-    double a = 1.0, b = 0.0, c = 0.0, wall = 0.0;
+    double a = 1.0, b = 0.0, c = 0.0, b2 = 0.0, c2 = 0.0, wall = 0.0;
     Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
   };
+  /// The coefficients of Bouzidi's linear (`quadratic` false) or quadratic rule at fraction q.
+  static void set_interpolation(PreparedLink& p, double q, double moving, bool quadratic);
+  /// True when x - c_i and x - 2 c_i are fluid cells of this block reached without crossing a face.
+  bool has_two_fluid_cells_behind(const std::array<int, 3>& x, const std::array<int, 3>& c) const;
 
   PreparedLink prepare_link(const WallLink& link, WallRule rule) const;
   std::vector<PreparedLink> prepare_links(const Obstacle& obstacle) const;
@@ -907,7 +913,12 @@ class AaSolver final : public Solver {
       const double f_second = l.b != 0.0 ? static_cast<double>(Odd ? A[slot(i, l.fluid)] : A[slot(o, l.second)]) : 0.0;
       const double f_opposite =
           l.c != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.behind)] : A[slot(i, l.fluid)]) : 0.0;
-      const Real back = static_cast<Real>(l.a * f_in + l.b * f_second + l.c * f_opposite + l.wall);
+      // The quadratic rule's third points: f*_i(x - 2c_i) and f*_opp(i)(x - c_i).
+      const double f_third = l.b2 != 0.0 ? static_cast<double>(Odd ? A[slot(i, l.behind)] : A[slot(o, l.third)]) : 0.0;
+      const double f_opposite_behind =
+          l.c2 != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.third)] : A[slot(i, l.behind)]) : 0.0;
+      const Real back = static_cast<Real>(l.a * f_in + l.b * f_second + l.c * f_opposite + l.b2 * f_third +
+                                          l.c2 * f_opposite_behind + l.wall);
       A[out_slot] = back;
       // Shifted storage holds f - w: the momentum needs f itself.
       const double w = L::set.w[i];
@@ -1110,17 +1121,53 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
   // Ladd's moving-wall term -2 w_i rho_0 c_i.u_w / cs^2 at rho_0 = 1, scaled like f*_i(x).
   const double moving = -6.0 * L::set.w[link.dir] *
                         (c[0] * link.wall_velocity[0] + c[1] * link.wall_velocity[1] + c[2] * link.wall_velocity[2]);
+  p.third = p.fluid;
   const double q = link.q;
   if (rule == WallRule::halfway || (q < 0.5 && !has_second)) {
     // Without the second node the q < 1/2 interpolation has nothing to lean on: half-way
     // bounce-back there (first order at that link only).
-    p.a = 1.0, p.b = 0.0, p.c = 0.0, p.wall = moving;
-  } else if (q < 0.5) {
-    p.a = 2.0 * q, p.b = 1.0 - 2.0 * q, p.c = 0.0, p.wall = moving;
-  } else {
-    p.a = 0.5 / q, p.b = 0.0, p.c = (2.0 * q - 1.0) / (2.0 * q), p.wall = moving / (2.0 * q);
+    p.a = 1.0, p.wall = moving;
+    return p;
   }
+  const bool quadratic = rule == WallRule::quadratic && has_two_fluid_cells_behind(x, c);
+  if (quadratic) p.third = upstream_of(p.behind, link.dir);
+  set_interpolation(p, q, moving, quadratic);
   return p;
+}
+
+// Lagrange interpolation along the link (Bouzidi, Firdaouss and Lallemand 2001). q < 1/2: the
+// population that reaches x after its bounce left from x + (2q - 1) c_i before the streaming; it
+// is interpolated from f*_i at x, x - c_i (and x - 2 c_i). q >= 1/2: the bounced f*_i(x) lands at
+// x + (2q - 1) c_i, and the value at x is interpolated between it and f*_opp(i) streamed to
+// x - c_i (and x - 2 c_i). The moving-wall term rides with the bounced population's weight.
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::set_interpolation(PreparedLink& p, double q, double moving, bool quadratic) {
+  if (q < 0.5 && !quadratic) {
+    p.a = 2.0 * q, p.b = 1.0 - 2.0 * q, p.wall = moving;
+  } else if (q < 0.5) {
+    p.a = q * (1.0 + 2.0 * q), p.b = (1.0 - 2.0 * q) * (1.0 + 2.0 * q), p.b2 = -q * (1.0 - 2.0 * q);
+    p.wall = moving;
+  } else if (!quadratic) {
+    p.a = 0.5 / q, p.c = (2.0 * q - 1.0) / (2.0 * q), p.wall = moving / (2.0 * q);
+  } else {
+    p.a = 1.0 / (q * (2.0 * q + 1.0)), p.c = (2.0 * q - 1.0) / q, p.c2 = -(2.0 * q - 1.0) / (2.0 * q + 1.0);
+    p.wall = moving * p.a;
+  }
+}
+
+template <Lattice L, class Collision, class Real>
+bool AaSolver<L, Collision, Real>::has_two_fluid_cells_behind(const std::array<int, 3>& x,
+                                                              const std::array<int, 3>& c) const {
+  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+  for (const int k : {1, 2}) {
+    std::array<int, 3> y{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      y[a] = x[a] - k * c[a];
+      if (y[a] < 0 || y[a] >= extent[a]) return false;
+    }
+    if (solid_at(y[0], y[1], y[2])) return false;
+  }
+  return true;
 }
 
 template <Lattice L, class Collision, class Real>

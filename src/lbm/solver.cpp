@@ -1,5 +1,8 @@
 #include "lbm/solver.hpp"
 
+#include <fmt/format.h>
+
+#include "common/error.hpp"
 #include "lbm/aa_solver.hpp"
 
 namespace settle::lbm {
@@ -103,6 +106,24 @@ VectorField vorticity_of(const VectorField& u, const std::array<int, 3>& extent,
     }
   }
   return w;
+}
+
+std::string to_string(WallRule rule) {
+  switch (rule) {
+    case WallRule::halfway:
+      return "halfway";
+    case WallRule::bouzidi:
+      return "bouzidi";
+    case WallRule::quadratic:
+      return "quadratic";
+  }
+  return "?";
+}
+
+WallRule parse_wall_rule(const std::string& name, const std::string& what) {
+  for (const WallRule rule : {WallRule::bouzidi, WallRule::quadratic, WallRule::halfway})
+    if (name == to_string(rule)) return rule;
+  throw InputError(fmt::format("{}: must be bouzidi, quadratic or halfway, got '{}'", what, name));
 }
 
 }  // namespace settle::lbm

@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "lbm/config.hpp"
@@ -106,8 +107,13 @@ struct WallLink {
 /// - halfway: bounce-back as if every wall sat half-way along its links (q ignored), a
 ///   staircase of the cells' faces, first order in the wall's true position;
 /// - bouzidi: linear interpolation along the link at the true q (Bouzidi, Firdaouss and
-///   Lallemand 2001, Phys. Fluids 13, 3452, doi:10.1063/1.1399290), second order.
-enum class WallRule { halfway, bouzidi };
+///   Lallemand 2001, Phys. Fluids 13, 3452, doi:10.1063/1.1399290), second order;
+/// - quadratic: their quadratic interpolation, from three points along the link, where x - c_i and
+///   x - 2 c_i are fluid cells of the block reached without crossing a face (else the linear rule).
+enum class WallRule { halfway, bouzidi, quadratic };
+std::string to_string(WallRule rule);
+/// The case file's names (bouzidi, quadratic, halfway); throws settle::InputError naming `what`.
+WallRule parse_wall_rule(const std::string& name, const std::string& what);
 
 /// Solid cells inside the grid and the links of fluid cells into them. The solid cells are not
 /// fluid: their content is reset to rest after every odd step and never reaches the fluid. On a

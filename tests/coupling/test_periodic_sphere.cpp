@@ -66,7 +66,7 @@ double momentum_exchange_k_error(int box_cells, settle::lbm::WallRule rule) {
   std::printf(
       "momentum exchange (%s), d = 16 cells, L = %d: phi = %.4f, K = %.4f, Sangani-Acrivos %.4f (%+.2f%%), "
       "Re = %.1e, %lld steps\n",
-      rule == settle::lbm::WallRule::bouzidi ? "bouzidi" : "halfway", box_cells, r.solid_fraction, r.k, r.k_reference,
+      settle::lbm::to_string(rule).c_str(), box_cells, r.solid_fraction, r.k, r.k_reference,
       100.0 * (r.k / r.k_reference - 1.0), r.reynolds, static_cast<long long>(r.steps));
   EXPECT_LT(r.reynolds, 0.01);
   EXPECT_LT(r.last_relative_change, 1e-5);

@@ -263,6 +263,25 @@ TEST(CaseSchema, TrtMagicReachesTheSetupAndIsReportedUnderAnotherOperator) {
   }
 }
 
+TEST(CaseSchema, WallRuleReachesTheSetupByName) {
+  const std::string base =
+      "[fluid]\ndensity = 1000\ndynamic_viscosity = 1e-3\n[particle]\nshape = \"sphere\"\ndiameter = 1e-3\n"
+      "density = 2500\n[domain]\nsize = [8e-3, 8e-3, 8e-3]\n[numerics]\n";
+  const auto rule_of = [&base](const std::string& numerics) {
+    return simulation_setup(parse_case(case_schema(), base + numerics, "case.toml"), ".", "c").wall_rule;
+  };
+  EXPECT_EQ(rule_of(""), lbm::WallRule::bouzidi);
+  EXPECT_EQ(rule_of("wall_rule = \"quadratic\"\n"), lbm::WallRule::quadratic);
+  EXPECT_EQ(rule_of("wall_rule = \"halfway\"\n"), lbm::WallRule::halfway);
+  try {
+    rule_of("wall_rule = \"cubic\"\n");
+    ADD_FAILURE() << "cubic was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[numerics] wall_rule"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("quadratic"), std::string::npos) << e.what();
+  }
+}
+
 // A key that only the other coupling reads is reported when the case sets it away from its default
 // (it would change nothing); a resolved case, which writes every key at its value, is not.
 TEST(CaseSchema, KeysOfTheOtherCouplingAreReportedWhenSetAwayFromTheirDefault) {

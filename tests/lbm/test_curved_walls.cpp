@@ -53,7 +53,9 @@ struct CouetteResult {
 };
 
 /// Cell centres at integer points; the cylinders' axis at a point off every symmetry of the grid.
-CouetteResult run_couette(double r_outer, WallRule rule) {
+/// `collision` and `tau` default to the solver's default operator (TRT) at tau = 0.8.
+CouetteResult run_couette(double r_outer, WallRule rule, CollisionKind collision = CollisionKind::trt,
+                          double tau = 0.8) {
   Couette flow;
   flow.r_outer = r_outer;
   flow.r_inner = 0.5 * r_outer;
@@ -66,7 +68,8 @@ CouetteResult run_couette(double r_outer, WallRule rule) {
 
   SolverConfig cfg;
   cfg.nx = n, cfg.ny = n, cfg.nz = 1;
-  cfg.tau = 0.8;
+  cfg.tau = tau;
+  cfg.collision = collision;
   auto solver = make_solver(cfg);
   Obstacle obstacle;
   obstacle.rule = rule;
@@ -162,6 +165,40 @@ TEST(LbmCurvedWalls, HalfwayBounceBackOnTheSameFlowIsFirstOrderAndLessAccurate) 
   // the interpolation's error at R2 = 32; the bounds leave wide margins on both.
   EXPECT_GT(fine.velocity_error, 3.0 * interpolated.velocity_error);
   EXPECT_LT(std::log2(medium.velocity_error / fine.velocity_error), 1.6);
+}
+
+TEST(LbmCurvedWalls, QuadraticInterpolationConvergesAtSecondOrder) {
+  const CouetteResult coarse = run_couette(8.0, WallRule::quadratic);
+  const CouetteResult fine = run_couette(32.0, WallRule::quadratic);
+  // Bouzidi et al. 2001's quadratic rule is second order too. Measured under TRT at tau = 0.8:
+  // 1.17e-2, 2.9e-3, 8.6e-4 at R2 = 8, 16, 32 (order 1.88 over the factor 4; the torque -1.9%,
+  // -0.45%, -0.14%): under TRT it is less accurate than the linear rule (docs/lbm.md). The bounds
+  // are the linear rule's test's: they separate second order from the staircase's first.
+  const double order = std::log2(coarse.velocity_error / fine.velocity_error) / 2.0;
+  EXPECT_GT(order, 1.7) << coarse.velocity_error << " " << fine.velocity_error;
+  EXPECT_LT(order, 3.0);
+  Couette exact;
+  exact.r_outer = 32.0, exact.r_inner = 16.0, exact.omega = 0.16 / 32.0 / 16.0;
+  const double torque = exact.torque_per_length(viscosity_from_tau(0.8));
+  // 0.5%: over three times the measured -0.14%; a missing wall term or a wrong weight gives percents.
+  EXPECT_NEAR(fine.torque, -torque, 0.005 * torque);
+}
+
+TEST(LbmCurvedWalls, QuadraticInterpolationHalvesTheLinearRulesErrorAtLowTauUnderRecursiveRegularisation) {
+  // The regime of the resolved sphere runs (tau 0.51-0.54, the recursive regularised operator,
+  // BGK-like at the wall): there the linear rule's error grows as tau falls (its wall slip depends
+  // on the viscosity), the quadratic rule's much less. Measured at tau = 0.53, R2 = 16: velocity
+  // error 5.6e-3 (linear) and 1.9e-3 (quadratic), torque +1.34% and +0.65%. The factor 2 asserted
+  // on the velocity error is below the measured 2.9; equal accuracy would fail it.
+  const double tau = 0.53;
+  const CouetteResult linear = run_couette(16.0, WallRule::bouzidi, CollisionKind::recursive_regularized, tau);
+  const CouetteResult quadratic = run_couette(16.0, WallRule::quadratic, CollisionKind::recursive_regularized, tau);
+  EXPECT_LT(2.0 * quadratic.velocity_error, linear.velocity_error)
+      << quadratic.velocity_error << " " << linear.velocity_error;
+  Couette exact;
+  exact.r_outer = 16.0, exact.r_inner = 8.0, exact.omega = 0.16 / 16.0 / 8.0;
+  const double torque = exact.torque_per_length(viscosity_from_tau(tau));
+  EXPECT_LT(std::abs(quadratic.torque + torque), std::abs(linear.torque + torque));
 }
 
 }  // namespace test_curved_walls
