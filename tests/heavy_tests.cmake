@@ -21,6 +21,7 @@ set_tests_properties(
   CouplingLightBody.AcrylicCubeAt8CellsStaysBoundedOverTheFirstTenthOfASecond  # 27 / 2.4
   # Measured 2026-11-26, one at a time beside another test, on a slower day of the machine.
   PeriodicSphereArray.MomentumExchangeDilutePhi0065At16CellsPerDiameter       # 347 / 87
+  PeriodicSphereArray.MomentumExchangeQuadraticDilutePhi0065At16CellsPerDiameter  # (not measured) / 52 beside two runs
   LbmCurvedWalls.HalfwayBounceBackOnTheSameFlowIsFirstOrderAndLessAccurate    # 136 / 5.7
   LbmCurvedWalls.InterpolatedBounceBackConvergesAtSecondOrderOnCouetteFlow    # 77 / 2.8
   # 2026-11-28, release beside a one-thread run; the linear rule's tests' grids, so about as slow.

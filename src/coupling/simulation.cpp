@@ -126,6 +126,13 @@ lbm::SolverConfig Simulation::fluid_config() const {
   config.ny = derived_.cells[1];
   config.nz = derived_.cells[2];
   if (communicator_.size() > 1) {
+    // Its third point lies two cells behind a link, beyond the one-cell halo of a block: near block
+    // faces it would fall back to the linear rule, and the result would depend on the split.
+    if (setup_.coupling == CouplingKind::momentum_exchange && setup_.wall_rule == lbm::WallRule::quadratic)
+      throw InputError(
+          fmt::format("numerics.wall_rule: \"quadratic\" runs on one process only (this run has {} ranks); choose "
+                      "\"bouzidi\" or run without mpirun",
+                      communicator_.size()));
     config.split = lbm::choose_split(derived_.cells, communicator_.size(), communicator_.rank());
     const std::array<int, 3> block = config.split->extent(communicator_.rank());
     config.nx = block[0], config.ny = block[1], config.nz = block[2];

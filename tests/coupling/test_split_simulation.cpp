@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "body/shape_factory.hpp"
@@ -152,6 +153,27 @@ void expect_split_runs_as_one_process(CouplingKind coupling) {
 
 TEST(SplitSimulation, TheMomentumExchangeOnTwoThreeAndFourRanksMovesBitForBitAsInOneProcess) {
   expect_split_runs_as_one_process(CouplingKind::momentum_exchange);
+}
+
+// The quadratic wall rule reads two cells behind a link, beyond a block's halo: a split run refuses it
+// on every rank, naming the key, before any step.
+TEST(SplitSimulation, TheQuadraticWallRuleIsRefusedOnMoreThanOneRank) {
+  SimulationSetup setup = settling_spheroid();
+  setup.wall_rule = lbm::WallRule::quadratic;
+  test::ThreadRanks threads(2);
+  std::mutex report;
+  std::vector<std::string> messages;
+  threads.run([&](parallel::Communicator& communicator) {
+    try {
+      Simulation part(setup, communicator);
+    } catch (const InputError& e) {
+      std::lock_guard lock(report);
+      messages.emplace_back(e.what());
+    }
+  });
+  ASSERT_EQ(messages.size(), 2u);
+  for (const std::string& m : messages) EXPECT_NE(m.find("numerics.wall_rule"), std::string::npos) << m;
+  EXPECT_NO_THROW(Simulation{setup});  // one process takes it
 }
 
 TEST(SplitSimulation, TheImmersedBoundaryOnTwoThreeAndFourRanksMovesBitForBitAsInOneProcess) {
