@@ -368,7 +368,10 @@ void run_case(const RunOptions& options) {
   // before anything in DIR changes); relative paths in its resolved case are relative to DIR.
   check_restart_flags(options.restart_dir, options.case_file, options.overrides, options.output_dir);
   std::optional<RestartPoint> restart;
-  if (!options.restart_dir.empty()) restart.emplace(options.restart_dir);
+  if (!options.restart_dir.empty()) {
+    restart.emplace(options.restart_dir);
+    restart->apply_overrides(options.overrides);
+  }
   const fs::path case_path = options.case_file;
   const io::CaseValues values = restart ? restart->case_values() : io::load_case(case_path, options.overrides);
   const std::string name = restart ? restart->case_name() : case_path.empty() ? "default" : case_path.stem().string();
@@ -523,7 +526,7 @@ void add_run_command(CLI::App& app) {
   });
   run->add_option("--restart", options->restart_dir,
                   "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
-                  "SIGINT/SIGTERM); takes no case file, --set or -o")
+                  "SIGINT/SIGTERM); takes no case file or -o, and --set only for run.end_time (a later end)")
       ->type_name("DIR");
 }
 

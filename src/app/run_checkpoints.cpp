@@ -163,6 +163,13 @@ coupling::IntervalSums interval_from_record(const coupling::CheckpointCallerData
   return sums;
 }
 
+// The key of a --set assignment "key=value" as apply_override reads it (blanks dropped).
+std::string override_key(const std::string& assignment) {
+  std::string key = assignment.substr(0, assignment.find('='));
+  std::erase_if(key, [](char c) { return c == ' ' || c == '\t'; });
+  return key;
+}
+
 }  // namespace
 
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples) {
@@ -195,9 +202,12 @@ void check_restart_flags(const std::string& restart_dir, const std::string& case
   if (!case_file.empty())
     throw InputError(
         fmt::format("--restart {} and the case file {} exclude each other: {}", restart_dir, case_file, why));
-  if (!overrides.empty())
-    throw InputError(
-        fmt::format("--restart {} and --set {} exclude each other: {}", restart_dir, overrides.front(), why));
+  for (const std::string& assignment : overrides)
+    if (override_key(assignment) != kRestartExtendableKey)
+      throw InputError(
+          fmt::format("--restart {} and --set {} exclude each other: {}; only --set {}=T continues the "
+                      "run to a later end time",
+                      restart_dir, assignment, why, kRestartExtendableKey));
   if (!output_dir.empty())
     throw InputError(fmt::format("--restart {} and -o {} exclude each other: {} (the run continues in {})", restart_dir,
                                  output_dir, why, restart_dir));
@@ -305,6 +315,18 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
         fmt::format("{}: cannot continue the run: {} holds {} bytes, fewer than the {} it held at the "
                     "checkpoint (rows before the checkpoint are missing)",
                     file_.string(), timeseries.string(), size, timeseries_bytes_));
+}
+
+void RestartPoint::apply_overrides(const std::vector<std::string>& overrides) {
+  if (overrides.empty()) return;
+  for (const std::string& assignment : overrides) io::apply_override(*values_, assignment);
+  const double end_time_s = values_->real(kRestartExtendableKey);
+  if (!(end_time_s > time_si_))
+    throw InputError(
+        fmt::format("--set {}={}: the checkpoint {} is at t = {:.9g} s; a restart runs on to a later "
+                    "end time",
+                    kRestartExtendableKey, end_time_s, file_.string(), time_si_));
+  resolved_case_ = io::rewrite_resolved_value(resolved_case_, *values_, kRestartExtendableKey);
 }
 
 void RestartPoint::restore(coupling::Simulation& sim) {

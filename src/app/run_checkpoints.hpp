@@ -41,8 +41,13 @@ std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples)
 /// The inverse of samples_record. CheckpointError naming `section` when the record is malformed.
 std::vector<coupling::Sample> samples_from_record(std::span<const std::byte> record, const std::string& section);
 
-/// `--restart DIR` takes the case, its overrides and its directory from the checkpoint: a case file,
-/// --set or -o next to it is refused (settle::InputError naming both flags).
+/// The one key `--set` may change beside `--restart`: a run continues to a later end time. Any
+/// other key would make the continued run differ from the one the checkpoint belongs to.
+inline constexpr const char* kRestartExtendableKey = "run.end_time";
+
+/// `--restart DIR` takes the case and its directory from the checkpoint: a case file or -o next to
+/// it is refused, and --set for any key but kRestartExtendableKey (settle::InputError naming both
+/// flags).
 void check_restart_flags(const std::string& restart_dir, const std::string& case_file,
                          const std::vector<std::string>& overrides, const std::string& output_dir);
 
@@ -83,6 +88,10 @@ class RestartPoint {
   /// the mesh copy particle_mesh.stl, are relative to run_dir()).
   const std::string& resolved_case() const { return resolved_case_; }
   const io::CaseValues& case_values() const { return *values_; }
+  /// Applies `--set run.end_time=T` (check_restart_flags let nothing else through) to the values
+  /// and to the resolved case's text. T must lie after the checkpoint's time (settle::InputError
+  /// naming the flag and that time).
+  void apply_overrides(const std::vector<std::string>& overrides);
   const std::string& case_name() const { return case_name_; }
   double time_si() const { return time_si_; }
   std::uintmax_t timeseries_bytes() const { return timeseries_bytes_; }

@@ -415,24 +415,54 @@ void apply_override(CaseValues& values, std::string_view assignment) {
   values.set(path, std::move(*value), "--set");
 }
 
+namespace {
+
+// A key's table and its name inside it: nested tables (domain.walls.x) are written with dotted
+// keys inside their top-level table.
+std::pair<std::string, std::string> table_and_key(const std::string& path) {
+  const auto dot = path.find('.');
+  if (dot == std::string::npos) return {std::string(), path};
+  return {path.substr(0, dot), path.substr(dot + 1)};
+}
+
+std::string resolved_line(const CaseValues& values, const KeySpec& k) {
+  return fmt::format("{} = {}  # {}{}{}\n", table_and_key(k.path).second, to_toml(values.value(k.path)),
+                     k.unit.empty() ? "" : "[" + k.unit + "] ", k.doc, values.given(k.path) ? "" : " (default)");
+}
+
+}  // namespace
+
 std::string write_resolved_toml(const CaseValues& values) {
   std::string out;
   std::string current_table = "\x01";
   for (const KeySpec& k : values.schema().keys()) {
     if (!values.has(k.path)) continue;
-    // Nested tables (domain.walls.x) are written with dotted keys inside their top-level table.
-    const std::string path = k.path;
-    const auto dot = path.find('.');
-    const std::string table = dot == std::string::npos ? std::string() : path.substr(0, dot);
-    const std::string key = dot == std::string::npos ? path : path.substr(dot + 1);
+    const std::string table = table_and_key(k.path).first;
     if (table != current_table) {
       out += fmt::format("{}[{}]\n", out.empty() ? "" : "\n", table);
       current_table = table;
     }
-    out += fmt::format("{} = {}", key, to_toml(values.value(k.path)));
-    out += fmt::format("  # {}{}{}\n", k.unit.empty() ? "" : "[" + k.unit + "] ", k.doc,
-                       values.given(k.path) ? "" : " (default)");
+    out += resolved_line(values, k);
   }
+  return out;
+}
+
+std::string rewrite_resolved_value(std::string_view resolved_text, const CaseValues& values, std::string_view path) {
+  const KeySpec* spec = values.schema().find(path);
+  if (!spec || !values.has(path)) throw std::logic_error(fmt::format("rewrite_resolved_value: no value of {}", path));
+  const auto [table, key] = table_and_key(spec->path);
+  const std::string header = fmt::format("[{}]\n", table);
+  const std::size_t table_at = resolved_text.rfind(header, 0) == 0 ? 0 : resolved_text.find("\n" + header);
+  if (table_at == std::string_view::npos)
+    throw std::logic_error(fmt::format("rewrite_resolved_value: no table [{}] in the resolved case", table));
+  const std::size_t line_at = resolved_text.find("\n" + key + " = ", table_at + 1);
+  const std::size_t next_table = resolved_text.find("\n[", table_at + 1);
+  if (line_at == std::string_view::npos || line_at > next_table)
+    throw std::logic_error(fmt::format("rewrite_resolved_value: no line of {} in the resolved case", path));
+  const std::size_t line_end = resolved_text.find('\n', line_at + 1);
+  std::string out(resolved_text.substr(0, line_at + 1));
+  out += resolved_line(values, *spec);
+  if (line_end != std::string_view::npos) out += resolved_text.substr(line_end + 1);
   return out;
 }
 

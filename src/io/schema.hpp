@@ -104,6 +104,11 @@ void apply_override(CaseValues& values, std::string_view assignment);
 /// as a comment.
 std::string write_resolved_toml(const CaseValues& values);
 
+/// `resolved_text` (write_resolved_toml's output and anything after it) with the line of `path`
+/// written anew from `values`, every other byte kept: a restart that changes run.end_time keeps
+/// which keys the first run took by default (parsing the text back would mark every key given).
+std::string rewrite_resolved_value(std::string_view resolved_text, const CaseValues& values, std::string_view path);
+
 /// The key table of the user guide, as Markdown.
 std::string schema_markdown(const Schema& schema);
 

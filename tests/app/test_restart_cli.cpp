@@ -8,8 +8,11 @@
 //    round-trip precision, so any difference is a fault.
 //  - SIGTERM and SIGINT stop the run with a checkpoint (also when run.checkpoint_interval is 0), exit
 //    status 128 + signal and no summary.json; the restart completes identically.
-//  - --restart refuses a directory without a checkpoint, a truncated checkpoint, and a case file or
-//    --set beside it: exit status 2, a message naming the file or flag, the directory untouched.
+//  - A finished run continued with --restart and --set run.end_time=T writes what one run to T
+//    writes (timeseries.csv and case.resolved.toml byte for byte, summary.json but the wall clock).
+//  - --restart refuses a directory without a checkpoint, a truncated checkpoint, a case file beside
+//    it, --set of any other key and an end time not after the checkpoint: exit status 2, a message
+//    naming the file or flag, the directory untouched.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -256,9 +259,30 @@ TEST_F(RestartCli, InterruptedRunExits130WithACheckpoint) {
   fs::remove(scratch("restart_int.err"));
 }
 
+// A run to 0.015 s with a checkpoint at its end, continued to 0.03 s, against one run to 0.03 s with
+// the same checkpoint interval (so that the two resolved cases may be compared whole).
+TEST_F(RestartCli, FinishedRunExtendedToALaterEndTimeWritesWhatOneLongerRunWrites) {
+  const std::string every = " --set run.checkpoint_interval=0.005";
+  const fs::path longer = scratch("restart_extend_straight");
+  ASSERT_EQ(run_settle("-o " + longer.string() + joined(kCase) + every).status, 0);
+  const fs::path dir = scratch("restart_extend");
+  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + every + " --set run.end_time=0.015").status, 0);
+  EXPECT_LT(row_times(dir / "timeseries.csv").back(), 0.016);
+
+  const Result r = run_settle("--restart " + dir.string() + " --set run.end_time=0.03");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(restart_time(r.err), 0.015, 0.001);  // from the checkpoint at the first run's end
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(longer / "timeseries.csv"));
+  EXPECT_EQ(physics_of_summary(dir), physics_of_summary(longer));
+  EXPECT_EQ(read_text(dir / "case.resolved.toml"), read_text(longer / "case.resolved.toml"));
+  fs::remove_all(dir);
+  fs::remove_all(longer);
+}
+
 // A directory without a checkpoint (a finished run that wrote none), then a truncated checkpoint,
-// then --restart beside a case file and beside --set: exit status 2, the file or flags named, and
-// not a byte of the directory changed.
+// then --restart beside a case file, beside --set of a key other than run.end_time and with an end
+// time before the checkpoint's: exit status 2, the file or flags named, and not a byte of the
+// directory changed.
 TEST_F(RestartCli, RefusalsExitTwoAndLeaveTheDirectoryUntouched) {
   const fs::path dir = scratch("restart_refused");
   fs::remove_all(dir);
@@ -286,7 +310,10 @@ TEST_F(RestartCli, RefusalsExitTwoAndLeaveTheDirectoryUntouched) {
   fs::copy_file(with_checkpoint / "checkpoint.bin", dir / "checkpoint.bin", fs::copy_options::overwrite_existing);
   const std::string case_file = std::string(SETTLE_SOURCE_DIR) + "/cases/grain.toml";
   expect_refused(case_file + " --restart " + dir.string(), {"--restart", case_file});
-  expect_refused("--restart " + dir.string() + " --set run.end_time=1", {"--restart", "--set run.end_time=1"});
+  expect_refused("--restart " + dir.string() + " --set fluid.density=1100",
+                 {"--restart", "--set fluid.density=1100", "run.end_time"});
+  expect_refused("--restart " + dir.string() + " --set run.end_time=0.004",
+                 {"--set run.end_time=0.004", "later end time"});
   fs::remove_all(dir);
   fs::remove_all(with_checkpoint);
 }

@@ -169,6 +169,22 @@ TEST(Schema, ResolvedTomlReadsBackToTheSameValues) {
   }
 }
 
+// The rewritten text must be what write_resolved_toml writes for the changed values, byte for
+// byte (the other keys' "(default)" marks included), and keep what follows the tables.
+TEST(Schema, RewritingOneResolvedValueChangesOnlyItsLine) {
+  const Schema schema = test_schema();
+  const CaseValues v = parse_case(schema, "[fluid]\ndensity = 1000.5\n[particle]\ndiameter = 1e-3\n", "c");
+  const std::string trailer = "\n# [derived] not read back\n# steps = 3\n";
+  for (const char* assignment : {"run.steps=42", "domain.walls.x=\"periodic\"", "fluid.density=1001"}) {
+    CaseValues changed = v;
+    apply_override(changed, assignment);
+    const std::string path = std::string(assignment).substr(0, std::string(assignment).find('='));
+    EXPECT_EQ(rewrite_resolved_value(write_resolved_toml(v) + trailer, changed, path),
+              write_resolved_toml(changed) + trailer)
+        << assignment;
+  }
+}
+
 TEST(Schema, MarkdownTableListsEveryKey) {
   const Schema schema = test_schema();
   const std::string md = schema_markdown(schema);
