@@ -40,8 +40,13 @@ using settle::test::read_text;
 using settle::test::scratch;
 using Result = settle::test::CliResult;
 
-const std::vector<std::string> kCase{"--set", "numerics.cells_per_diameter=6", "--set",     "run.end_time=0.03",
-                                     "--set", "run.output_interval=0.0025",    "--threads", "1"};
+// A checkpoint every 0.005 s (about 15 steps): the runs of these tests can be continued from any
+// of them, and a checkpoint never changes what a run writes.
+const std::vector<std::string> kCase{"--set",     "numerics.cells_per_diameter=6",
+                                     "--set",     "run.end_time=0.03",
+                                     "--set",     "run.output_interval=0.0025",
+                                     "--set",     "run.checkpoint_interval=0.005",
+                                     "--threads", "1"};
 
 std::string joined(const std::vector<std::string>& words) {
   std::string text;
@@ -179,8 +184,9 @@ fs::path* RestartCli::straight_ = nullptr;
 // them off and write them again.
 TEST_F(RestartCli, KilledRunContinuesToTheUninterruptedResult) {
   const fs::path dir = scratch("restart_killed");
-  std::vector<std::string> arguments{"-o", dir.string(), "--set", "run.checkpoint_interval=0.02"};
+  std::vector<std::string> arguments{"-o", dir.string()};
   arguments.insert(arguments.end(), kCase.begin(), kCase.end());
+  arguments.insert(arguments.end(), {"--set", "run.checkpoint_interval=0.02"});  // after kCase's: it wins
   Background run(arguments, scratch("restart_killed.err"));
   const bool ready = wait_until(run, [&] {
     if (!fs::exists(dir / "checkpoint.bin")) return false;
@@ -243,6 +249,7 @@ TEST_F(RestartCli, InterruptedRunExits130WithACheckpoint) {
   const fs::path dir = scratch("restart_int");
   std::vector<std::string> arguments{"-o", dir.string()};
   arguments.insert(arguments.end(), kCase.begin(), kCase.end());
+  arguments.insert(arguments.end(), {"--set", "run.checkpoint_interval=0"});  // the signal alone writes it
   Background run(arguments, scratch("restart_int.err"));
   const bool ready = wait_until(run, [&] {
     const std::vector<double> times = row_times(dir / "timeseries.csv");
@@ -259,24 +266,20 @@ TEST_F(RestartCli, InterruptedRunExits130WithACheckpoint) {
   fs::remove(scratch("restart_int.err"));
 }
 
-// A run to 0.015 s with a checkpoint at its end, continued to 0.03 s, against one run to 0.03 s with
-// the same checkpoint interval (so that the two resolved cases may be compared whole).
+// A run to 0.015 s with a checkpoint at its end, continued to 0.03 s, against the fixture's run to
+// 0.03 s with the same checkpoint interval (so that the two resolved cases may be compared whole).
 TEST_F(RestartCli, FinishedRunExtendedToALaterEndTimeWritesWhatOneLongerRunWrites) {
-  const std::string every = " --set run.checkpoint_interval=0.005";
-  const fs::path longer = scratch("restart_extend_straight");
-  ASSERT_EQ(run_settle("-o " + longer.string() + joined(kCase) + every).status, 0);
   const fs::path dir = scratch("restart_extend");
-  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + every + " --set run.end_time=0.015").status, 0);
+  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + " --set run.end_time=0.015").status, 0);
   EXPECT_LT(row_times(dir / "timeseries.csv").back(), 0.016);
 
   const Result r = run_settle("--restart " + dir.string() + " --set run.end_time=0.03");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NEAR(restart_time(r.err), 0.015, 0.001);  // from the checkpoint at the first run's end
-  EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(longer / "timeseries.csv"));
-  EXPECT_EQ(physics_of_summary(dir), physics_of_summary(longer));
-  EXPECT_EQ(read_text(dir / "case.resolved.toml"), read_text(longer / "case.resolved.toml"));
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(*straight_ / "timeseries.csv"));
+  EXPECT_EQ(physics_of_summary(dir), physics_of_summary(*straight_));
+  EXPECT_EQ(read_text(dir / "case.resolved.toml"), read_text(*straight_ / "case.resolved.toml"));
   fs::remove_all(dir);
-  fs::remove_all(longer);
 }
 
 // A directory without a checkpoint (a finished run that wrote none), then a truncated checkpoint,
@@ -287,6 +290,7 @@ TEST_F(RestartCli, RefusalsExitTwoAndLeaveTheDirectoryUntouched) {
   const fs::path dir = scratch("restart_refused");
   fs::remove_all(dir);
   fs::copy(*straight_, dir, fs::copy_options::recursive);
+  fs::remove(dir / "checkpoint.bin");
   const auto expect_refused = [&](const std::string& arguments, const std::vector<std::string>& named) {
     const auto before = snapshot(dir);
     const Result r = run_settle(arguments);
