@@ -121,16 +121,22 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
   double next_progress_s = progress_interval_wall_s;
 
   std::string stop_reason;
-  const auto record_sample = [&] {
-    result.samples.push_back(take_sample(sim, time.time_si(), interval));
-    interval = IntervalSums{};
-    if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
+  std::int64_t healthy_at_step = -1;  // the last step whose fluid check_health passed
+  const auto check_fluid_health = [&] {
+    if (healthy_at_step == time.step()) return;
     const HealthReport health = check_health(sim);
     result.extremes.density_deviation = std::max(
         {result.extremes.density_deviation, std::abs(health.min_density - 1.0), std::abs(health.max_density - 1.0)});
     result.extremes.lattice_speed = std::max(result.extremes.lattice_speed, health.max_lattice_speed);
     if (!health.problem.empty())
       throw NumericalError(fmt::format("at t = {:.6g} s (step {}): {}", time.time_si(), time.step(), health.problem));
+    healthy_at_step = time.step();
+  };
+  const auto record_sample = [&] {
+    result.samples.push_back(take_sample(sim, time.time_si(), interval));
+    interval = IntervalSums{};
+    if (callbacks.on_sample) callbacks.on_sample(result.samples.back());
+    check_fluid_health();
     if (callbacks.stop_after_sample) stop_reason = callbacks.stop_after_sample(result.samples.back());
   };
   const auto sample_if_due = [&] {
@@ -143,6 +149,8 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
            seconds_since(segment_start) - last_checkpoint_wall_s >= callbacks.checkpoint_wall_interval_s;
   };
   const auto hand_over_checkpoint = [&] {
+    // Also between samples: a checkpoint of a diverged fluid would replace the last good one.
+    check_fluid_health();
     // The samples are lent to the state rather than copied (a long run holds many); they come back
     // before anything else reads them.
     RunStart state{time.step(),   output.next_index(), std::move(result.samples),

@@ -140,6 +140,29 @@ TEST(Runner, ADivergedRunStopsWithANumericalErrorAfterWritingTheSample) {
   EXPECT_EQ(samples, 2);
 }
 
+// Samples every 4 steps, checkpoints every 2: the fluid turned NaN after step 6 (even: where
+// populations may be set) must stop the run before the checkpoint due at step 6 is taken, though no
+// sample falls there. Without the check the checkpoint of the diverged fluid would replace the last
+// good one, and a restart would begin from it.
+TEST(Runner, NoCheckpointIsTakenOfADivergedFluid) {
+  Simulation sim(small_setup());
+  int checkpoints = 0;
+  bool planted = false;
+  RunCallbacks callbacks;
+  callbacks.checkpoint_interval_si = 2.0;
+  callbacks.checkpoint_due = [&](const RunStart& state) {
+    EXPECT_FALSE(planted) << "a checkpoint at step " << state.step << " of a diverged fluid";
+    ++checkpoints;
+  };
+  callbacks.after_step = [&](double t_si, double) {
+    if (std::lround(t_si) != 6) return;
+    plant_density(sim, std::numeric_limits<double>::quiet_NaN());
+    planted = true;
+  };
+  EXPECT_THROW(run(sim, callbacks), settle::NumericalError);
+  EXPECT_EQ(checkpoints, 2);  // at steps 2 and 4
+}
+
 // summary.json's fluid_health: the largest deviation and speed the checks met, over every sample.
 // A density defect of 5% planted at one sample (inside the limit, so the run goes on) must be the
 // largest deviation of the run: the slow driven flow's own is ~1e-6.
