@@ -65,6 +65,7 @@ set_tests_properties(
   Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/cube
   Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/cylinder
   Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/disk
+  Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/disk_zigzag  # 1.2 million cells, as disk
   Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/grain
   Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/oblate_spheroid
   Cases/ShippedCase.RunsFiveStepsAtItsDefaultResolution/prolate_spheroid

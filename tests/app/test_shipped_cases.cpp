@@ -35,8 +35,8 @@ fs::path cases_dir() { return fs::path(SETTLE_SOURCE_DIR) / "cases"; }
 // The cases docs/cases.md describes (ten Cate E1-E4, the non-spherical set, the STL grain); the
 // test below runs every *.toml in cases/, these must be among them.
 const std::vector<std::string> kDocumentedCases = {
-    "tencate_E1",      "tencate_E2", "tencate_E3", "tencate_E4", "prolate_spheroid",
-    "oblate_spheroid", "disk",       "cylinder",   "cube",       "grain"};
+    "tencate_E1",  "tencate_E2", "tencate_E3", "tencate_E4", "prolate_spheroid", "oblate_spheroid", "disk",
+    "disk_zigzag", "cylinder",   "cube",       "grain"};
 
 std::vector<std::string> shipped_case_names() {
   std::vector<std::string> names;

@@ -46,6 +46,7 @@ struct TowedSphereOptions {
   Eigen::Vector2d offset_cells = Eigen::Vector2d::Zero();
   CouplingKind coupling = CouplingKind::immersed_boundary;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
+  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;  ///< momentum exchange only
 };
 
 struct TowedSphereResult {
@@ -80,6 +81,7 @@ inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
   s.follow_particle = true;
   s.coupling = o.coupling;
   s.collision = o.collision;
+  s.wall_rule = o.wall_rule;
   s.initial.position_si = Eigen::Vector3d(0.5 * width + o.offset_cells.x(), 0.5 * width + o.offset_cells.y(),
                                           std::round(o.ahead_diameters * d));
   s.initial.velocity_si = Eigen::Vector3d(0.0, 0.0, -o.lattice_speed);

@@ -1,7 +1,8 @@
 // Validation (label `validation`): drag of a sphere towed through fluid at rest at Re = 20, 50,
 // 100 and 300 against the standard drag curve (towed_sphere.hpp), and its grid convergence at
 // Re = 20.
-// Environment: SETTLE_TOWED_CELLS (cells per diameter, default 16), SETTLE_TOWED_COUPLING.
+// Environment: SETTLE_TOWED_CELLS (cells per diameter, default 16), SETTLE_TOWED_COUPLING,
+// SETTLE_TOWED_WALL_RULE (the momentum exchange's numerics.wall_rule, default bouzidi).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,12 +27,18 @@ settle::coupling::CouplingKind coupling_from_environment() {
                : settle::coupling::CouplingKind::immersed_boundary;
 }
 
+settle::lbm::WallRule wall_rule_from_environment() {
+  const char* value = std::getenv("SETTLE_TOWED_WALL_RULE");
+  return value ? settle::lbm::parse_wall_rule(value, "SETTLE_TOWED_WALL_RULE") : settle::lbm::WallRule::bouzidi;
+}
+
 void check(double reynolds, double travel_diameters) {
   TowedSphereOptions o;
   o.reynolds = reynolds;
   o.travel_diameters = travel_diameters;
   o.cells_per_diameter = resolution_from_environment(16.0);
   o.coupling = coupling_from_environment();
+  o.wall_rule = wall_rule_from_environment();
   const TowedSphereResult r = run_towed_sphere_printed(o);
   // Start-up transient over: the mean drag of the last fifth of the travel differs from the fifth
   // before by less than a tenth of the 4% budget.
@@ -63,6 +70,7 @@ TEST(TowedSphereValidation, Re300) {
   o.travel_diameters = 40.0;
   o.cells_per_diameter = resolution_from_environment(16.0);
   o.coupling = coupling_from_environment();
+  o.wall_rule = wall_rule_from_environment();
   o.collision = settle::lbm::CollisionKind::recursive_regularized;
   o.offset_cells = Eigen::Vector2d(0.3, 0.2);
   const TowedSphereResult r = run_towed_sphere_printed(o);
