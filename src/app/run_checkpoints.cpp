@@ -163,13 +163,6 @@ coupling::IntervalSums interval_from_record(const coupling::CheckpointCallerData
   return sums;
 }
 
-// The key of a --set assignment "key=value" as apply_override reads it (blanks dropped).
-std::string override_key(const std::string& assignment) {
-  std::string key = assignment.substr(0, assignment.find('='));
-  std::erase_if(key, [](char c) { return c == ' ' || c == '\t'; });
-  return key;
-}
-
 }  // namespace
 
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples) {
@@ -203,7 +196,7 @@ void check_restart_flags(const std::string& restart_dir, const std::string& case
     throw InputError(
         fmt::format("--restart {} and the case file {} exclude each other: {}", restart_dir, case_file, why));
   for (const std::string& assignment : overrides)
-    if (override_key(assignment) != kRestartExtendableKey)
+    if (io::override_key(assignment) != kRestartExtendableKey)
       throw InputError(
           fmt::format("--restart {} and --set {} exclude each other: {}; only --set {}=T continues the "
                       "run to a later end time",

@@ -371,11 +371,20 @@ CaseValues parse_case(const Schema& schema, std::string_view toml_text, std::str
   return values;
 }
 
-void apply_override(CaseValues& values, std::string_view assignment) {
-  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
+namespace {
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+}  // namespace
+
+std::string override_key(std::string_view assignment) {
   const auto eq = assignment.find('=');
   std::string path(assignment.substr(0, eq == std::string_view::npos ? 0 : eq));
   path.erase(std::remove_if(path.begin(), path.end(), is_space), path.end());
+  return path;
+}
+
+void apply_override(CaseValues& values, std::string_view assignment) {
+  const auto eq = assignment.find('=');
+  const std::string path = override_key(assignment);
   if (eq == std::string_view::npos || path.empty())
     throw InputError(fmt::format("--set {}: expected key=value, e.g. --set fluid.density=1000", assignment));
   const Schema& schema = values.schema();

@@ -100,6 +100,10 @@ CaseValues parse_case(const Schema& schema, std::string_view toml_text, std::str
 /// Applies one "key=value" override (command line --set); the value is parsed as TOML.
 void apply_override(CaseValues& values, std::string_view assignment);
 
+/// The key of an override as apply_override reads it: the text before '=', blanks dropped ("" when
+/// there is no '=').
+std::string override_key(std::string_view assignment);
+
 /// Writes every key (defaults included) as TOML, grouped by table, with each key's doc and unit
 /// as a comment.
 std::string write_resolved_toml(const CaseValues& values);

@@ -63,7 +63,8 @@ TEST(TowedSphereValidation, Re100) { check(100.0, 20.0); }
 // operator, as that case: tau is 0.506 at 16 cells. Criteria of the issue for Re = 300: C_D within
 // 3% of the standard curve at 16 cells; and the wake must break its symmetry: a lateral force above
 // 1% of the drag (Johnson and Patel's C_L / C_D at Re = 300 is 0.069 / 0.656 = 0.11; an
-// axisymmetric wake gives round-off, below 1e-10 at Re = 100).
+// axisymmetric wake gives at most 1e-7 of the drag: 1e-14 with the linear wall rule and 6e-8 with
+// the quadratic one at Re = 100, docs/validation.md).
 TEST(TowedSphereValidation, Re300) {
   TowedSphereOptions o;
   o.reynolds = 300.0;
