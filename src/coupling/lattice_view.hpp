@@ -46,8 +46,9 @@ class LatticeView {
     return {local[0] + o[0], local[1] + o[1], local[2] + o[2]};
   }
   /// Block `rank`'s coordinates of a wrapped cell in its padded range: its own cells, and the
-  /// ghosts beyond its faces shared with another block (also across a periodic wrap).
-  std::optional<std::array<int, 3>> in_padded_block(const std::array<int, 3>& wrapped, int rank) const {
+  /// `depth` layers beyond its faces shared with another block (also across a periodic wrap): the
+  /// ghosts (depth 1), and the layer after them where the quadratic wall rule reads (depth 2).
+  std::optional<std::array<int, 3>> in_padded_block(const std::array<int, 3>& wrapped, int rank, int depth = 1) const {
     const auto o = split_.offset(rank), n = split_.extent(rank);
     const auto b = split_.block_coordinates(rank);
     std::array<int, 3> local{};
@@ -58,7 +59,7 @@ class LatticeView {
         const int l = wrapped[a] + image - o[a];
         if (l >= 0 && l < n[a]) {
           found = image == 0;
-        } else if ((l == -1 || l == n[a]) && split_.blocks[a] > 1) {
+        } else if (l >= -depth && l < n[a] + depth && split_.blocks[a] > 1) {
           const int k = b[a] + (l < 0 ? -1 : 1);
           found = (image == 0 && k >= 0 && k < split_.blocks[a]) || (image != 0 && periodic_[a]);
         }

@@ -180,7 +180,13 @@ void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose
   for (const auto& c : whole.obstacle.solid_cells) {
     const auto w = view.wrap(c);
     if (!w) continue;
-    if (const auto local = view.in_padded_block(*w, view.rank())) walls_.obstacle.solid_cells.push_back(*local);
+    if (const auto local = view.in_padded_block(*w, view.rank())) {
+      walls_.obstacle.solid_cells.push_back(*local);
+    } else if (walls_.obstacle.rule != lbm::WallRule::quadratic) {
+      continue;
+    } else if (const auto far = view.in_padded_block(*w, view.rank(), 2)) {
+      walls_.obstacle.far_solid_cells.push_back(*far);
+    }
   }
   for (std::size_t k = 0; k < whole.obstacle.links.size(); ++k) {
     const auto w = view.wrap(whole.obstacle.links[k].cell);

@@ -126,16 +126,15 @@ lbm::SolverConfig Simulation::fluid_config() const {
   config.ny = derived_.cells[1];
   config.nz = derived_.cells[2];
   if (communicator_.size() > 1) {
-    // Its third point lies two cells behind a link, beyond the one-cell halo of a block: near block
-    // faces it would fall back to the linear rule, and the result would depend on the split.
-    if (setup_.coupling == CouplingKind::momentum_exchange && setup_.wall_rule == lbm::WallRule::quadratic)
-      throw InputError(
-          fmt::format("numerics.wall_rule: \"quadratic\" runs on one process only (this run has {} ranks); choose "
-                      "\"bouzidi\" or run without mpirun",
-                      communicator_.size()));
     config.split = lbm::choose_split(derived_.cells, communicator_.size(), communicator_.rank());
     const std::array<int, 3> block = config.split->extent(communicator_.rank());
     config.nx = block[0], config.ny = block[1], config.nz = block[2];
+    if (setup_.coupling == CouplingKind::momentum_exchange && setup_.wall_rule == lbm::WallRule::quadratic &&
+        config.split->thinnest_block() < 2)
+      throw InputError(fmt::format(
+          "numerics.wall_rule: \"quadratic\" reads two cells behind a link and needs blocks at least two cells thick; "
+          "{} ranks split this lattice into thinner ones: run on fewer ranks or choose \"bouzidi\"",
+          communicator_.size()));
   }
   config.boundaries = setup_.boundaries;
   config.tau = plan_.units.tau();

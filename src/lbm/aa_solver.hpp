@@ -126,6 +126,26 @@ class AaSolver final : public Solver {
     return counts;
   }
 
+  bool exchanges_far_values() const override { return !halo_.empty() && obstacle_rule_ == WallRule::quadratic; }
+  void far_requests(HaloMessages& messages) const override {
+    messages.send.assign(halo_.size(), {});
+    for (std::size_t k = 0; k < far_.requests.size(); ++k) messages.send[k] = far_.requests[k];
+  }
+  void take_far_requests(const HaloMessages& messages) override;
+  void far_answers(HaloMessages& messages) const override {
+    messages.send.assign(halo_.size(), {});
+    for (std::size_t k = 0; k < far_.asked.size(); ++k) {
+      const std::vector<double>& asked = far_.asked[k];
+      for (std::size_t n = 0; n < asked.size(); n += 4) {
+        const auto at = [&](std::size_t m) { return static_cast<int>(asked[n + m]); };
+        const std::size_t cell = layout_.index(at(0), at(1), at(2));
+        messages.send[k].push_back(odd_parity() ? post_collision<true>(at(3), cell)
+                                                : post_collision<false>(at(3), cell));
+      }
+    }
+  }
+  void take_far_answers(const HaloMessages& messages) override;
+
   void end_step(const HaloMessages& messages) override {
     check_message_count(messages, "end_step");
     write_received(messages, odd_parity(), "end_step");
@@ -398,9 +418,11 @@ class AaSolver final : public Solver {
   }
   void end_local() {
     if (odd_parity()) {
+      read_local_far_values<true>();
       close_wall_links<true>();
       reset_solid_cells();
     } else {
+      read_local_far_values<false>();
       close_wall_links<false>();
     }
     ++steps_;
@@ -855,14 +877,38 @@ class AaSolver final : public Solver {
     std::size_t second = 0;  ///< x - c_i when it is fluid (read only when b != 0), else x
     std::size_t behind = 0;  ///< x - c_i: where the odd kernel puts f*_opp(i)(x)
     std::size_t third = 0;   ///< x - 2 c_i when the quadratic rule reads it (b2 or c2 != 0), else x
+    /// With the quadratic rule and x - c_i a ghost: the entry of far_.values that holds the third
+    /// value (kNoFar otherwise; kFarUnplanned between prepare_link and plan_far_values).
+    std::size_t far = kNoFar;
     int dir = 0;
     double a = 1.0, b = 0.0, c = 0.0, b2 = 0.0, c2 = 0.0, wall = 0.0;
     Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
   };
+  static constexpr std::size_t kNoFar = static_cast<std::size_t>(-1), kFarUnplanned = kNoFar - 1;
   /// The coefficients of Bouzidi's linear (`quadratic` false) or quadratic rule at fraction q.
   static void set_interpolation(PreparedLink& p, double q, double moving, bool quadratic);
-  /// True when x - c_i and x - 2 c_i are fluid cells of this block reached without crossing a face.
+  /// True when x - c_i and x - 2 c_i are fluid cells of the lattice (x in block coordinates).
   bool has_two_fluid_cells_behind(const std::array<int, 3>& x, const std::array<int, 3>& c) const;
+  /// Whether cell y (block coordinates, at most two cells beyond the block's faces) is solid; empty
+  /// beyond a face of the lattice that is not periodic.
+  std::optional<bool> solid_near(std::array<int, 3> y) const;
+  std::size_t far_key(const std::array<int, 3>& y) const {
+    const auto n = [](int v) { return static_cast<std::size_t>(v + 2); };
+    return n(y[0]) + n(config_.nx + 2) * (n(y[1]) + n(config_.ny + 2) * n(y[2]));
+  }
+  /// Assigns the far values of the links prepare_link marked: read here, or asked of their block.
+  void plan_far_values(const Obstacle& obstacle);
+  /// f*_j(y) of interior cell y (padded index) after the kernel of the given parity.
+  template <bool Odd>
+  double post_collision(int j, std::size_t y) const {
+    return static_cast<double>(populations_[Odd ? slot(j, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(y) +
+                                                                                   layout_.offset(L::set.c[j])))
+                                                : slot(opposite(j), y)]);
+  }
+  template <bool Odd>
+  void read_local_far_values() {
+    for (const FarLocal& e : far_.local) far_.values[e.value] = post_collision<Odd>(e.population, e.cell);
+  }
 
   PreparedLink prepare_link(const WallLink& link, WallRule rule) const;
   std::vector<PreparedLink> prepare_links(const Obstacle& obstacle) const;
@@ -870,7 +916,7 @@ class AaSolver final : public Solver {
   /// dropped); the links are dropped, to be set again at the obstacle's new place.
   void shift_solid_cells(int axis, int sign, std::vector<std::size_t> entering) {
     if (solid_cells_.empty() && entering.empty()) {
-      ghost_solids_.clear(), links_.clear(), wall_momentum_.clear();
+      ghost_solids_.clear(), far_solids_.clear(), links_.clear(), wall_momentum_.clear(), far_ = {};
       return;
     }
     const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
@@ -914,9 +960,15 @@ class AaSolver final : public Solver {
       const double f_opposite =
           l.c != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.behind)] : A[slot(i, l.fluid)]) : 0.0;
       // The quadratic rule's third points: f*_i(x - 2c_i) and f*_opp(i)(x - c_i).
-      const double f_third = l.b2 != 0.0 ? static_cast<double>(Odd ? A[slot(i, l.behind)] : A[slot(o, l.third)]) : 0.0;
-      const double f_opposite_behind =
-          l.c2 != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.third)] : A[slot(i, l.behind)]) : 0.0;
+      // A link whose x - c_i is a ghost reads the one it needs from far_ (plan_far_values).
+      const double far = l.far != kNoFar ? far_.values[l.far] : 0.0;
+      const double f_third = l.b2 == 0.0       ? 0.0
+                             : l.far != kNoFar ? far
+                                               : static_cast<double>(Odd ? A[slot(i, l.behind)] : A[slot(o, l.third)]);
+      const double f_opposite_behind = l.c2 == 0.0 ? 0.0
+                                       : l.far != kNoFar
+                                           ? far
+                                           : static_cast<double>(Odd ? A[slot(o, l.third)] : A[slot(i, l.behind)]);
       const Real back = static_cast<Real>(l.a * f_in + l.b * f_second + l.c * f_opposite + l.b2 * f_third +
                                           l.c2 * f_opposite_behind + l.wall);
       A[out_slot] = back;
@@ -975,6 +1027,23 @@ class AaSolver final : public Solver {
   /// Solid cells of adjacent blocks in the ghost layer (padded indices, ascending): where this
   /// block's links end across a block face.
   std::vector<std::size_t> ghost_solids_;
+  /// Solid cells one layer beyond the ghosts (far_key, ascending): the quadratic rule's x - 2 c_i.
+  std::vector<std::size_t> far_solids_;
+  WallRule obstacle_rule_ = WallRule::bouzidi;
+  /// The quadratic rule's third values of links whose x - c_i is a ghost (PreparedLink::far).
+  struct FarLocal {
+    std::size_t value = 0, cell = 0;  ///< entry of `values`; the interior cell y (padded index)
+    int population = 0;               ///< j of f*_j(y)
+  };
+  struct FarValues {
+    std::vector<double> values;
+    std::vector<FarLocal> local;  ///< those this block holds (across a periodic wrap)
+    /// Per halo rank: what this block asks of it (x, y, z in its block's coordinates, j; four values
+    /// each), the entry of `values` each answer fills, and what it asked of this block.
+    std::vector<std::vector<double>> requests;
+    std::vector<std::vector<std::size_t>> answers_to;
+    std::vector<std::vector<double>> asked;
+  } far_;
   /// A block's rows (y + ny z) near the faces it shares with other blocks, and the rest
   /// (split_rows).
   std::vector<int> face_rows_, interior_rows_;
@@ -1033,6 +1102,8 @@ void AaSolver<L, Collision, Real>::set_solid_cells(std::vector<std::size_t> cell
   links_.clear();
   wall_momentum_.clear();
   ghost_solids_.clear();
+  far_solids_.clear();
+  far_ = {};
   solid_cells_ = std::move(cells);
   if (solid_cells_.empty()) return;
   if (solid_flag_.empty()) solid_flag_.assign(cell_count(), 0);
@@ -1072,10 +1143,104 @@ void AaSolver<L, Collision, Real>::set_obstacle(const Obstacle& obstacle) {
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   std::sort(ghosts.begin(), ghosts.end());
   ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  // Every block refuses, so that none waits for another's exchange.
+  if (obstacle.rule == WallRule::quadratic && config_.split && config_.split->thinnest_block() < 2) {
+    throw std::invalid_argument(
+        "set_obstacle: the quadratic rule reads two cells behind a link, which needs blocks at least two cells "
+        "thick along a split axis");
+  }
+  std::vector<std::size_t> far;
+  for (const auto& cell : obstacle.far_solid_cells) {
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (cell[a] < -2 || cell[a] > extent[a] + 1) {
+        throw std::invalid_argument("set_obstacle: a far solid cell lies more than two cells beyond the block");
+      }
+    }
+    far.push_back(far_key(cell));
+  }
+  std::sort(far.begin(), far.end());
   set_solid_cells(std::move(cells));
   ghost_solids_ = std::move(ghosts);
+  far_solids_ = std::move(far);
+  obstacle_rule_ = obstacle.rule;
   links_ = prepare_links(obstacle);
+  plan_far_values(obstacle);
   wall_momentum_.assign(links_.size(), Eigen::Vector3d::Zero());
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::plan_far_values(const Obstacle& obstacle) {
+  far_ = {};
+  far_.requests.resize(halo_.size());
+  far_.answers_to.resize(halo_.size());
+  const BlockSplit split = config_.split.value_or(unsplit({config_.nx, config_.ny, config_.nz}));
+  const std::array<int, 3> origin = split.offset(split.rank);
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    PreparedLink& p = links_[k];
+    if (p.far != kFarUnplanned) continue;
+    const auto x = resolve(obstacle.links[k].cell[0], obstacle.links[k].cell[1], obstacle.links[k].cell[2]);
+    const auto& c = L::set.c[p.dir];
+    // q < 1/2 reads f*_i(x - 2 c_i), q >= 1/2 reads f*_opp(i)(x - c_i).
+    const int steps_back = p.b2 != 0.0 ? 2 : 1, j = p.b2 != 0.0 ? p.dir : opposite(p.dir);
+    std::array<int, 3> y{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int g = split.global[a];
+      y[a] = ((x[a] - steps_back * c[a] + origin[a]) % g + g) % g;  // fluid, so inside or across a wrap
+    }
+    const int home = split.owner(y);
+    const std::array<int, 3> at = split.offset(home);
+    for (std::size_t a = 0; a < 3; ++a) y[a] -= at[a];
+    p.far = far_.values.size();
+    far_.values.push_back(0.0);
+    if (home == split.rank) {
+      far_.local.push_back({p.far, layout_.index(y[0], y[1], y[2]), j});
+      continue;
+    }
+    const auto adjacent = std::find_if(halo_.begin(), halo_.end(), [&](const HaloLinks& h) { return h.rank == home; });
+    if (adjacent == halo_.end()) {
+      throw std::invalid_argument("set_obstacle: the quadratic rule reads a cell of block " + std::to_string(home) +
+                                  ", which is not adjacent to this one (blocks must be at least two cells thick)");
+    }
+    const auto n = static_cast<std::size_t>(adjacent - halo_.begin());
+    far_.requests[n].insert(far_.requests[n].end(), {static_cast<double>(y[0]), static_cast<double>(y[1]),
+                                                     static_cast<double>(y[2]), static_cast<double>(j)});
+    far_.answers_to[n].push_back(p.far);
+  }
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::take_far_requests(const HaloMessages& messages) {
+  check_message_count(messages, "take_far_requests");
+  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+  for (const std::vector<double>& asked : messages.receive) {
+    if (asked.size() % 4 != 0) throw std::invalid_argument("take_far_requests: a request holds four values");
+    for (std::size_t n = 0; n < asked.size(); n += 4) {
+      for (std::size_t a = 0; a < 3; ++a) {
+        if (!(asked[n + a] >= 0.0 && asked[n + a] < extent[a])) {
+          throw std::invalid_argument("take_far_requests: a requested cell lies outside the block");
+        }
+      }
+      if (!(asked[n + 3] >= 0.0 && asked[n + 3] < Q)) {
+        throw std::invalid_argument("take_far_requests: a requested population is out of range");
+      }
+    }
+  }
+  far_.asked = messages.receive;
+}
+
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::take_far_answers(const HaloMessages& messages) {
+  check_message_count(messages, "take_far_answers");
+  for (std::size_t k = 0; k < halo_.size(); ++k) {
+    const std::vector<std::size_t> none;
+    const std::vector<std::size_t>& to = k < far_.answers_to.size() ? far_.answers_to[k] : none;
+    if (messages.receive[k].size() != to.size()) {
+      throw std::invalid_argument("take_far_answers: " + std::to_string(messages.receive[k].size()) +
+                                  " values from rank " + std::to_string(halo_[k].rank) + ", expected " +
+                                  std::to_string(to.size()));
+    }
+    for (std::size_t n = 0; n < to.size(); ++n) far_.values[to[n]] = messages.receive[k][n];
+  }
 }
 
 template <Lattice L, class Collision, class Real>
@@ -1130,7 +1295,17 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
     return p;
   }
   const bool quadratic = rule == WallRule::quadratic && has_two_fluid_cells_behind(x, c);
-  if (quadratic) p.third = upstream_of(p.behind, link.dir);
+  if (quadratic) {
+    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+    bool second_inside = true;
+    for (std::size_t a = 0; a < 3; ++a) second_inside = second_inside && x[a] - c[a] >= 0 && x[a] - c[a] < extent[a];
+    // A ghost's neighbour x - 2 c_i lies beyond the padded block: its value comes from its home.
+    if (second_inside) {
+      p.third = upstream_of(p.behind, link.dir);
+    } else {
+      p.far = kFarUnplanned;
+    }
+  }
   set_interpolation(p, q, moving, quadratic);
   return p;
 }
@@ -1158,16 +1333,31 @@ void AaSolver<L, Collision, Real>::set_interpolation(PreparedLink& p, double q, 
 template <Lattice L, class Collision, class Real>
 bool AaSolver<L, Collision, Real>::has_two_fluid_cells_behind(const std::array<int, 3>& x,
                                                               const std::array<int, 3>& c) const {
-  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
   for (const int k : {1, 2}) {
-    std::array<int, 3> y{};
-    for (std::size_t a = 0; a < 3; ++a) {
-      y[a] = x[a] - k * c[a];
-      if (y[a] < 0 || y[a] >= extent[a]) return false;
-    }
-    if (solid_at(y[0], y[1], y[2])) return false;
+    const auto solid = solid_near({x[0] - k * c[0], x[1] - k * c[1], x[2] - k * c[2]});
+    if (!solid || *solid) return false;
   }
   return true;
+}
+
+template <Lattice L, class Collision, class Real>
+std::optional<bool> AaSolver<L, Collision, Real>::solid_near(std::array<int, 3> y) const {
+  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
+  int overhang = 0;  // how far beyond the block's faces, the largest over the axes
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (y[a] >= 0 && y[a] < extent[a]) continue;
+    const int side = y[a] < 0 ? 0 : 1;
+    if (has_block_beyond(a, side, true)) {
+      overhang = std::max(overhang, side == 0 ? -y[a] : y[a] - extent[a] + 1);
+      continue;
+    }
+    if (config_.boundaries[a] != Boundary::periodic) return std::nullopt;
+    y[a] = ((y[a] % extent[a]) + extent[a]) % extent[a];  // one block along a periodic axis
+  }
+  if (overhang == 0) return solid_at(y[0], y[1], y[2]);
+  if (overhang == 1)
+    return std::binary_search(ghost_solids_.begin(), ghost_solids_.end(), layout_.index(y[0], y[1], y[2]));
+  return std::binary_search(far_solids_.begin(), far_solids_.end(), far_key(y));
 }
 
 template <Lattice L, class Collision, class Real>

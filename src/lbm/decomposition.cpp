@@ -23,6 +23,16 @@ int BlockSplit::boundary(int axis, int k) const {
   return static_cast<int>(static_cast<std::int64_t>(global[a]) * k / blocks[a]);
 }
 
+int BlockSplit::thinnest_block() const {
+  int thinnest = std::numeric_limits<int>::max();
+  for (int a = 0; a < 3; ++a) {
+    if (blocks[static_cast<std::size_t>(a)] < 2) continue;
+    for (int k = 0; k < blocks[static_cast<std::size_t>(a)]; ++k)
+      thinnest = std::min(thinnest, boundary(a, k + 1) - boundary(a, k));
+  }
+  return thinnest;
+}
+
 std::array<int, 3> BlockSplit::offset(int of_rank) const {
   const std::array<int, 3> b = block_coordinates(of_rank);
   return {boundary(0, b[0]), boundary(1, b[1]), boundary(2, b[2])};

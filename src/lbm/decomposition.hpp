@@ -22,6 +22,9 @@ struct BlockSplit {
   /// First global cell and cells per axis of a rank's block.
   std::array<int, 3> offset(int of_rank) const;
   std::array<int, 3> extent(int of_rank) const;
+  /// The cells of the thinnest block along an axis with more than one block (the largest int when
+  /// no axis is split).
+  int thinnest_block() const;
   /// The rank whose block holds global interior cell c.
   int owner(const std::array<int, 3>& c) const;
   /// Ranks whose blocks touch this rank's block, through a face, an edge or a corner, periodic

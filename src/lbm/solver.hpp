@@ -109,7 +109,9 @@ struct WallLink {
 /// - bouzidi: linear interpolation along the link at the true q (Bouzidi, Firdaouss and
 ///   Lallemand 2001, Phys. Fluids 13, 3452, doi:10.1063/1.1399290), second order;
 /// - quadratic: their quadratic interpolation, from three points along the link, where x - c_i and
-///   x - 2 c_i are fluid cells of the block reached without crossing a face (else the linear rule).
+///   x - 2 c_i are fluid cells of the lattice (else the linear rule). On a split lattice a link
+///   whose x - c_i is a ghost reads its third value from the block that holds that cell (the far
+///   values, exchanged around the step: Solver::exchanges_far_values).
 enum class WallRule { halfway, bouzidi, quadratic };
 std::string to_string(WallRule rule);
 /// The case file's names (bouzidi, quadratic, halfway); throws settle::InputError naming `what`.
@@ -119,11 +121,14 @@ WallRule parse_wall_rule(const std::string& name, const std::string& what);
 /// fluid: their content is reset to rest after every odd step and never reaches the fluid. On a
 /// block of a split lattice the cells are the block's (its coordinates), and the solid cells of
 /// the adjacent blocks in its ghost layer (-1 or n along an axis with a block beyond) where its
-/// links end; the links are those of its own fluid cells.
+/// links end; the links are those of its own fluid cells. With the quadratic rule the block also
+/// needs the solid cells one layer further out (-2 or n + 1 along an axis with a block beyond):
+/// `far_solid_cells`, where a link's x - 2 c_i may lie.
 struct Obstacle {
   std::vector<std::array<int, 3>> solid_cells;
   std::vector<WallLink> links;
   WallRule rule = WallRule::bouzidi;
+  std::vector<std::array<int, 3>> far_solid_cells;
 };
 
 /// The messages of one step between a block of a split lattice (SolverConfig::split) and the
@@ -177,6 +182,17 @@ class Solver {
   virtual void step_interior() = 0;
   /// The length of the message each halo_ranks() entry sends this block in the coming step.
   virtual std::vector<std::size_t> halo_receive_counts() const = 0;
+  /// The quadratic wall rule's far values (see WallRule): when true (a split block whose obstacle
+  /// uses the quadratic rule; the same on every block), the step takes two more exchanges with
+  /// the halo_ranks(). Before begin_step_faces: far_requests fills send with what this block needs
+  /// of each adjacent one, take_far_requests keeps what they need of it. After the kernel and the
+  /// halo messages, before end_step: far_answers fills send with the values asked for,
+  /// take_far_answers writes what came back where the links read it.
+  virtual bool exchanges_far_values() const = 0;
+  virtual void far_requests(HaloMessages& messages) const = 0;
+  virtual void take_far_requests(const HaloMessages& messages) = 0;
+  virtual void far_answers(HaloMessages& messages) const = 0;
+  virtual void take_far_answers(const HaloMessages& messages) = 0;
 
   /// Sets every cell to the equilibrium of the given density and velocity. The stored
   /// momentum is rho u - F/2 with the force present now, so that velocity() returns u.

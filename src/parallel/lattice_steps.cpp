@@ -5,12 +5,23 @@
 namespace settle::parallel {
 
 void step(lbm::Solver& block, Communicator& communicator) {
-  lbm::HaloMessages messages;
+  lbm::HaloMessages messages, far;
   const std::vector<int> neighbours = block.halo_ranks();
+  const bool far_values = block.exchanges_far_values();
+  if (far_values) {
+    block.far_requests(far);
+    communicator.exchange(neighbours, far.send, far.receive);
+    block.take_far_requests(far);
+  }
   block.begin_step_faces(messages);
   communicator.start_exchange(neighbours, messages.send, block.halo_receive_counts());
   block.step_interior();
   communicator.finish_exchange(messages.receive);
+  if (far_values) {
+    block.far_answers(far);
+    communicator.exchange(neighbours, far.send, far.receive);
+    block.take_far_answers(far);
+  }
   block.end_step(messages);
 }
 

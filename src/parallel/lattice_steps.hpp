@@ -8,7 +8,9 @@
 namespace settle::parallel {
 
 /// One collide-and-stream step of this rank's block: the rows near its shared faces first, their
-/// messages posted, then the interior while they travel (Solver::begin_step_faces).
+/// messages posted, then the interior while they travel (Solver::begin_step_faces); with the
+/// quadratic wall rule the far values' requests before and answers after the kernel
+/// (Solver::exchanges_far_values).
 void step(lbm::Solver& block, Communicator& communicator);
 
 /// The moving window across every rank's block; the mass that left and entered the whole lattice,

@@ -75,17 +75,31 @@ struct Shift {
   int after_step, axis, sign;
 };
 
+// The far values (the quadratic rule's third values held by another block) the blocks ask for.
+std::size_t far_values_asked(SplitLattice& split) {
+  std::size_t asked = 0;
+  for (int r = 0; r < split.block_count(); ++r) {
+    HaloMessages m;
+    split.block(r).far_requests(m);
+    for (const auto& values : m.send) asked += values.size() / 4;
+  }
+  return asked;
+}
+
 // Steps both lattices, shifting the window after the given steps and setting the sphere again at
-// its place in the window (the body held by the window, the fluid moving past it).
+// its place in the window (the body held by the window, the fluid moving past it). Adds the far
+// values asked for at the start to `far_asked`.
 void expect_same_as_unsplit(const SolverConfig& cfg, const std::array<int, 3>& blocks, const Sphere& sphere,
-                            const std::vector<Shift>& shifts, int steps) {
+                            const std::vector<Shift>& shifts, int steps, WallRule rule, std::size_t& far_asked) {
   auto whole = make_solver(cfg);
   whole->initialise(halo::initial_state);
   SplitLattice split(cfg, blocks);
   const auto velocities = velocity_set(cfg.lattice);
-  const Obstacle obstacle = whole_obstacle(sphere, cfg, velocities);
+  Obstacle obstacle = whole_obstacle(sphere, cfg, velocities);
+  obstacle.rule = rule;
   ASSERT_GT(obstacle.links.size(), 50u);
   set_everywhere(*whole, split, obstacle);
+  far_asked += far_values_asked(split);
   std::size_t next_shift = 0;
   for (int s = 1; s <= steps; ++s) {
     whole->step();
@@ -115,21 +129,35 @@ void expect_same_as_unsplit(const SolverConfig& cfg, const std::array<int, 3>& b
 // 7 x 6 x 11 lattice) and stays two cells clear of the lattice's faces.
 Sphere straddling() { return {Eigen::Vector3d(3.1, 2.85, 5.2), 1.8}; }
 
+// With the quadratic rule a link whose second node is a ghost reads its third value from the block
+// that holds it (Solver::exchanges_far_values): the same value the unsplit lattice reads.
 TEST(HaloObstacle, BlocksWithABodyStepAndShiftBitForBitAsTheUnsplitLattice) {
   // Shifts at both parities (after an odd and an even step count), along the split axes and across
   // them, both directions.
   const std::vector<Shift> shifts = {{7, 2, 1}, {12, 2, -1}, {19, 0, 1}, {26, 1, -1}, {33, 2, 1}, {40, 0, -1}};
   const std::vector<std::array<int, 3>> splits = {{1, 1, 2}, {2, 1, 1}, {1, 2, 2}, {1, 1, 3}, {2, 2, 2}};
+  // The check must cover links whose third value another block holds, on every split; the linear
+  // rule asks for none.
+  std::map<std::array<int, 3>, std::size_t> far_asked;
+  std::size_t linear_asked = 0;
   for (const auto& [lattice, precision] :
        {std::pair{LatticeKind::D3Q19, Precision::float64}, std::pair{LatticeKind::D3Q27, Precision::float32}}) {
     for (const FaceSet& faces : halo::face_sets()) {
       for (const auto& blocks : splits) {
-        SCOPED_TRACE(std::string(faces.name) + ", " + to_string(lattice) + " " + to_string(precision) + ", blocks " +
-                     std::to_string(blocks[0]) + " x " + std::to_string(blocks[1]) + " x " + std::to_string(blocks[2]));
-        expect_same_as_unsplit(halo::lattice_of(faces, lattice, precision), blocks, straddling(), shifts, 48);
+        for (const WallRule rule : {WallRule::bouzidi, WallRule::quadratic}) {
+          SCOPED_TRACE(std::string(faces.name) + ", " + to_string(lattice) + " " + to_string(precision) + ", " +
+                       to_string(rule) + ", blocks " + std::to_string(blocks[0]) + " x " + std::to_string(blocks[1]) +
+                       " x " + std::to_string(blocks[2]));
+          std::size_t& asked = rule == WallRule::quadratic ? far_asked[blocks] : linear_asked;
+          expect_same_as_unsplit(halo::lattice_of(faces, lattice, precision), blocks, straddling(), shifts, 48, rule,
+                                 asked);
+        }
       }
     }
   }
+  EXPECT_EQ(linear_asked, 0u);
+  for (const auto& blocks : splits)
+    EXPECT_GT(far_asked[blocks], 0u) << blocks[0] << " x " << blocks[1] << " x " << blocks[2];
 }
 
 // Control: the populations a wall returned into a ghost must travel with the shift at an odd
@@ -158,6 +186,66 @@ TEST(HaloObstacle, ALostReturnedPopulationIsSeen) {
   whole->step();
   split.step();
   EXPECT_GT(halo::differing_populations(*whole, split), 0);
+}
+
+// On a periodic lattice of one block the quadratic rule reaches across the wrap: a sphere moved by a
+// whole number of cells so that it straddles the wrap on every axis, with the fluid moved with it,
+// steps exactly as in the middle of the lattice (the kernels and the links do the same arithmetic on
+// the same values). A rule that fell back to the linear one where x - c_i or x - 2 c_i is a periodic
+// ghost would change bits.
+TEST(HaloObstacle, TheQuadraticRuleAcrossAPeriodicWrapIsTheRuleAwayFromIt) {
+  SolverConfig cfg = halo::lattice_of(halo::face_sets()[0], LatticeKind::D3Q19, Precision::float64);
+  cfg.nx = 12, cfg.ny = 11, cfg.nz = 13;
+  const std::array<int, 3> n{cfg.nx, cfg.ny, cfg.nz}, move{6, 5, 7};
+  const auto moved = [&](std::array<int, 3> c) {
+    for (std::size_t a = 0; a < 3; ++a) c[a] = (c[a] + move[a]) % n[a];
+    return c;
+  };
+  const Sphere sphere{Eigen::Vector3d(6.1, 5.35, 6.2), 2.3};
+  Obstacle middle = whole_obstacle(sphere, cfg, velocity_set(cfg.lattice));
+  middle.rule = WallRule::quadratic;
+  Obstacle across = middle;
+  for (auto& c : across.solid_cells) c = moved(c);
+  for (auto& l : across.links) l.cell = moved(l.cell);
+  auto a = make_solver(cfg), b = make_solver(cfg);
+  a->initialise(halo::initial_state);
+  b->initialise([&](int x, int y, int z) {
+    return halo::initial_state((x - move[0] + n[0]) % n[0], (y - move[1] + n[1]) % n[1], (z - move[2] + n[2]) % n[2]);
+  });
+  a->set_obstacle(middle);
+  b->set_obstacle(across);
+  std::vector<double> fa(19), fb(19);
+  for (int step = 1; step <= 6; ++step) {
+    a->step();
+    b->step();
+    int differing = 0;
+    for (int z = 0; z < n[2]; ++z)
+      for (int y = 0; y < n[1]; ++y)
+        for (int x = 0; x < n[0]; ++x) {
+          const auto m = moved({x, y, z});
+          a->cell_populations(x, y, z, fa);
+          b->cell_populations(m[0], m[1], m[2], fb);
+          for (int i = 0; i < 19; ++i) differing += halo::bits(fa[i]) != halo::bits(fb[i]);
+        }
+    ASSERT_EQ(differing, 0) << "after step " << step;
+  }
+}
+
+// A block one cell thick cannot hand over a cell two behind a link: every block refuses the quadratic
+// rule (none may wait for another's exchange), the linear rule is taken.
+TEST(HaloObstacle, TheQuadraticRuleIsRefusedByEveryBlockWhenOneIsOneCellThick) {
+  const SolverConfig cfg = halo::lattice_of(halo::face_sets()[0], LatticeKind::D3Q19, Precision::float64);
+  SplitLattice split(cfg, {4, 1, 1});  // x: 7 cells in blocks of 1, 2, 2 and 2
+  ASSERT_EQ(split.split().thinnest_block(), 1);
+  Obstacle obstacle = whole_obstacle(straddling(), cfg, velocity_set(cfg.lattice));
+  for (int r = 0; r < split.block_count(); ++r) {
+    EXPECT_NO_THROW(split.block(r).set_obstacle(block_obstacle(obstacle, split.split(), r))) << "block " << r;
+  }
+  obstacle.rule = WallRule::quadratic;
+  for (int r = 0; r < split.block_count(); ++r) {
+    EXPECT_THROW(split.block(r).set_obstacle(block_obstacle(obstacle, split.split(), r)), std::invalid_argument)
+        << "block " << r;
+  }
 }
 
 }  // namespace test_halo_obstacle

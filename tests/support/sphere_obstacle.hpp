@@ -61,14 +61,19 @@ inline lbm::Obstacle block_obstacle(const lbm::Obstacle& whole, const lbm::Block
   lbm::Obstacle part;
   part.rule = whole.rule;
   for (const auto& c : whole.solid_cells) {
-    bool near = true;
+    bool near = true, far = true;
     std::array<int, 3> local{};
     for (std::size_t a = 0; a < 3; ++a) {
       local[a] = c[a] - o[a];
       near = near && local[a] >= -1 && local[a] <= n[a];
+      far = far && local[a] >= -2 && local[a] <= n[a] + 1;
     }
     // A ghost beyond a face of the lattice would be refused: the sphere stays clear of them.
-    if (near) part.solid_cells.push_back(local);
+    if (near) {
+      part.solid_cells.push_back(local);
+    } else if (far && whole.rule == lbm::WallRule::quadratic) {
+      part.far_solid_cells.push_back(local);
+    }
   }
   for (const lbm::WallLink& l : whole.links) {
     if (split.owner(l.cell) != r) continue;

@@ -40,9 +40,21 @@ class SplitLattice {
   /// One step of every block as parallel::step takes it: the face rows and the messages, then the
   /// interior while the messages are (here: have been) delivered, then the rest.
   void step() {
+    const bool far = solvers_.front()->exchanges_far_values();
+    std::vector<lbm::HaloMessages> far_messages(solvers_.size());
+    if (far) {
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->far_requests(far_messages[r]);
+      deliver(far_messages);
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->take_far_requests(far_messages[r]);
+    }
     for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->begin_step_faces(messages_[r]);
-    deliver();
+    deliver(messages_);
     for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->step_interior();
+    if (far) {
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->far_answers(far_messages[r]);
+      deliver(far_messages);
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->take_far_answers(far_messages[r]);
+    }
     for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->end_step(messages_[r]);
   }
 
@@ -53,13 +65,13 @@ class SplitLattice {
       const lbm::ShiftMass m = solvers_[r]->begin_shift(axis, sign, messages_[r]);
       total.left += m.left, total.entered += m.entered;
     }
-    deliver(tamper);
+    deliver(messages_, tamper);
     int refresh = 0;
     for (std::size_t r = 0; r < solvers_.size(); ++r) refresh += solvers_[r]->end_shift(messages_[r]) ? 1 : 0;
     // Every block of a split needs the ghost exchange at an odd parity, none at an even one.
     EXPECT_TRUE(refresh == 0 || refresh == static_cast<int>(solvers_.size())) << refresh << " blocks ask for it";
     if (refresh > 0) {
-      deliver();
+      deliver(messages_);
       for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->end_ghost_refresh(messages_[r]);
     }
     return total;
@@ -71,17 +83,17 @@ class SplitLattice {
   int block_count() const { return static_cast<int>(solvers_.size()); }
 
  private:
-  void deliver(const Tamper& tamper = {}) {
+  void deliver(std::vector<lbm::HaloMessages>& messages, const Tamper& tamper = {}) {
     for (std::size_t r = 0; r < solvers_.size(); ++r) {
       const std::vector<int> from = solvers_[r]->halo_ranks();
-      messages_[r].receive.resize(from.size());
+      messages[r].receive.resize(from.size());
       for (std::size_t k = 0; k < from.size(); ++k) {
         const std::vector<int> theirs = solvers_[static_cast<std::size_t>(from[k])]->halo_ranks();
         const auto at = std::find(theirs.begin(), theirs.end(), static_cast<int>(r));
         ASSERT_NE(at, theirs.end()) << "rank " << from[k] << " does not list rank " << r << " back";
-        messages_[r].receive[k] =
-            messages_[static_cast<std::size_t>(from[k])].send[static_cast<std::size_t>(at - theirs.begin())];
-        if (tamper) tamper(from[k], static_cast<int>(r), messages_[r].receive[k]);
+        messages[r].receive[k] =
+            messages[static_cast<std::size_t>(from[k])].send[static_cast<std::size_t>(at - theirs.begin())];
+        if (tamper) tamper(from[k], static_cast<int>(r), messages[r].receive[k]);
       }
     }
   }
