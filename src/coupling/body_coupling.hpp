@@ -98,7 +98,7 @@ struct CouplingOptions {
   double marker_retraction_cells = 0.4;
   bool interior_markers = false;
   // momentum exchange
-  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
+  lbm::WallRule wall_rule = lbm::kDefaultWallRule;
   bool covered_cell_torque = kDefaultCoveredCellTorque;
 };
 

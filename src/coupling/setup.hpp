@@ -51,7 +51,7 @@ struct SimulationSetup {
   double trt_magic = lbm::kWallExactTrtMagic;  ///< TRT only: Lambda = (tau+ - 1/2)(tau- - 1/2)
   lbm::Precision precision = lbm::kDefaultPrecision;
   CouplingKind coupling = kDefaultCoupling;
-  lbm::WallRule wall_rule = lbm::WallRule::bouzidi;      ///< momentum exchange only
+  lbm::WallRule wall_rule = lbm::kDefaultWallRule;       ///< momentum exchange only
   bool covered_cell_torque = kDefaultCoveredCellTorque;  ///< momentum exchange only
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;

@@ -4,6 +4,7 @@
 
 #include "coupling/body_coupling.hpp"
 #include "lbm/config.hpp"
+#include "lbm/solver.hpp"
 
 namespace settle::io {
 namespace {
@@ -38,6 +39,7 @@ std::vector<KeySpec> declare() {
   const std::vector<std::string> walls{"no-slip", "free-slip", "periodic"};
   const std::vector<std::string> faces{"none", "x-", "x+", "y-", "y+", "z-", "z+"};
   const std::string default_coupling = coupling::to_string(coupling::kDefaultCoupling);
+  const std::string default_wall_rule = lbm::to_string(lbm::kDefaultWallRule);
   const std::string default_precision = lbm::to_string(lbm::kDefaultPrecision);
   return {
       // [fluid]
@@ -127,7 +129,7 @@ std::vector<KeySpec> declare() {
       choice("numerics.coupling", default_coupling.c_str(), {"immersed_boundary", "momentum_exchange"},
              "how the body meets the fluid: diffuse immersed boundary, or sharp-interface momentum exchange with "
              "interpolated bounce-back (docs/coupling.md, Couplings)"),
-      choice("numerics.wall_rule", "bouzidi", {"bouzidi", "quadratic", "halfway"},
+      choice("numerics.wall_rule", default_wall_rule.c_str(), {"bouzidi", "quadratic", "halfway"},
              "momentum exchange: bounce-back interpolated at the true surface, linearly (bouzidi) or from three "
              "points (quadratic), or half-way on the cells' faces (halfway, a staircase)"),
       boolean("numerics.covered_cell_torque", coupling::kDefaultCoveredCellTorque,

@@ -1196,12 +1196,9 @@ void AaSolver<L, Collision, Real>::plan_far_values(const Obstacle& obstacle) {
       far_.local.push_back({p.far, layout_.index(y[0], y[1], y[2]), j});
       continue;
     }
-    const auto adjacent = std::find_if(halo_.begin(), halo_.end(), [&](const HaloLinks& h) { return h.rank == home; });
-    if (adjacent == halo_.end()) {
-      throw std::invalid_argument("set_obstacle: the quadratic rule reads a cell of block " + std::to_string(home) +
-                                  ", which is not adjacent to this one (blocks must be at least two cells thick)");
-    }
-    const auto n = static_cast<std::size_t>(adjacent - halo_.begin());
+    // x - 2 c_i lies at most one cell beyond the ghosts, in an adjacent block: set_obstacle refuses
+    // splits with blocks thinner than two cells.
+    const std::size_t n = halo_index(home);
     far_.requests[n].insert(far_.requests[n].end(), {static_cast<double>(y[0]), static_cast<double>(y[1]),
                                                      static_cast<double>(y[2]), static_cast<double>(j)});
     far_.answers_to[n].push_back(p.far);

@@ -113,6 +113,8 @@ struct WallLink {
 ///   whose x - c_i is a ghost reads its third value from the block that holds that cell (the far
 ///   values, exchanged around the step: Solver::exchanges_far_values).
 enum class WallRule { halfway, bouzidi, quadratic };
+/// The rule a case gets unless it chooses (docs/coupling.md says why).
+inline constexpr WallRule kDefaultWallRule = WallRule::bouzidi;
 std::string to_string(WallRule rule);
 /// The case file's names (bouzidi, quadratic, halfway); throws settle::InputError naming `what`.
 WallRule parse_wall_rule(const std::string& name, const std::string& what);

@@ -8,6 +8,7 @@
 // on every rank. Any difference is a missing link, a misplaced cell or a reordered sum.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -160,6 +161,49 @@ TEST(SplitSimulation, TheMomentumExchangeOnTwoThreeAndFourRanksMovesBitForBitAsI
 // the block that holds them (lbm::Solver::exchanges_far_values), so the split changes nothing.
 TEST(SplitSimulation, TheQuadraticWallRuleOnTwoThreeAndFourRanksMovesBitForBitAsInOneProcess) {
   expect_split_runs_as_one_process(CouplingKind::momentum_exchange, lbm::WallRule::quadratic);
+}
+
+// 23 ranks cut the 40 cells along z into blocks of one and two cells: the quadratic rule's far value
+// of a link on a one-cell block lies two blocks away, so every rank must refuse the case alike (a
+// refusal on some ranks only would leave the others waiting in an exchange) and name the key. The
+// linear rule, which reads no far values, builds the same split: the control that the refusal is
+// the rule's.
+TEST(SplitSimulation, TheQuadraticRuleIsRefusedOnEveryRankOfASplitWithBlocksOneCellThick) {
+  constexpr int kRanks = 23;
+  for (const lbm::WallRule rule : {lbm::WallRule::quadratic, lbm::WallRule::bouzidi}) {
+    SCOPED_TRACE(lbm::to_string(rule));
+    SimulationSetup setup = settling_spheroid();
+    setup.wall_rule = rule;
+    test::ThreadRanks threads(kRanks);
+    std::mutex report;
+    std::vector<std::string> errors;
+    int thinnest = -1;
+    threads.run([&](parallel::Communicator& communicator) {
+      std::string error;
+      int block_thickness = -1;
+      try {
+        const Simulation part(setup, communicator);
+        block_thickness = part.fluid().config().split->thinnest_block();
+      } catch (const InputError& e) {
+        error = e.what();
+      }
+      std::lock_guard lock(report);
+      errors.push_back(error);
+      thinnest = std::max(thinnest, block_thickness);
+    });
+    ASSERT_EQ(errors.size(), static_cast<std::size_t>(kRanks));
+    for (const std::string& e : errors) {
+      if (rule == lbm::WallRule::quadratic) {
+        EXPECT_NE(e.find("numerics.wall_rule"), std::string::npos) << e;
+        EXPECT_NE(e.find("\"bouzidi\""), std::string::npos) << e;
+      } else {
+        EXPECT_EQ(e, "");
+      }
+    }
+    if (rule == lbm::WallRule::bouzidi) {
+      EXPECT_EQ(thinnest, 1);  // the split is the thin one
+    }
+  }
 }
 
 TEST(SplitSimulation, TheImmersedBoundaryOnTwoThreeAndFourRanksMovesBitForBitAsInOneProcess) {
