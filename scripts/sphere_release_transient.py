@@ -3,7 +3,7 @@
 quasi-steady drag and a history force: a reference for the first milliseconds of a release run.
 
     m_p du/dt = (m_p - m_f) g - (m_f / 2) du/dt - F_qs(u) - F_h(t)
-    F_qs = 3 pi mu d u (1 + 0.15 Re^0.687)          (Schiller and Naumann 1933)
+    F_qs = 3 pi mu d u (1 + 0.15 Re^0.687)          (Schiller and Naumann 1933; or Stokes: 3 pi mu d u)
     F_h  = 3 pi mu d  int_0^t K(t - s) du/ds ds
 
 Kernels: "basset", K = (4 pi nu t / d^2)^(-1/2) (Basset 1888; the unsteady Stokes limit, exact
@@ -27,8 +27,9 @@ import csv
 import math
 
 
-def settling_speeds(d, rho_p, rho_f, mu, g, end, dt, kernel):
-    """Speeds u(n dt), n = 0..end/dt, by an implicit step in the newest history interval."""
+def settling_speeds(d, rho_p, rho_f, mu, g, end, dt, kernel="basset", drag="schiller_naumann"):
+    """Speeds u(n dt), n = 0..end/dt, by an implicit step in the newest history interval.
+    drag: "schiller_naumann", or "stokes" for the low-Reynolds-number form (scripts/validate_tencate.sh)."""
     nu = mu / rho_f
     volume = math.pi * d**3 / 6.0
     m_p, m_f = rho_p * volume, rho_f * volume
@@ -54,10 +55,10 @@ def settling_speeds(d, rho_p, rho_f, mu, g, end, dt, kernel):
     for n in range(steps):
         t, u = (n + 1) * dt, speeds[-1]
         re = u * d / nu
-        drag = stokes * u * (1.0 + 0.15 * re**0.687)
+        quasi_steady = stokes * u * (1.0 + 0.15 * re**0.687 if drag == "schiller_naumann" else 1.0)
         memory = sum(a * interval_weight(t - (j + 1) * dt, t - j * dt, u) for j, a in enumerate(accelerations))
         newest = stokes * interval_weight(0.0, dt, u)
-        a = ((m_p - m_f) * g - drag - stokes * memory) / (m_p + 0.5 * m_f + newest)
+        a = ((m_p - m_f) * g - quasi_steady - stokes * memory) / (m_p + 0.5 * m_f + newest)
         accelerations.append(a)
         speeds.append(u + a * dt)
     return speeds
@@ -87,11 +88,12 @@ def main():
     p.add_argument("--every", type=float, required=True, help="s between printed rows")
     p.add_argument("--dt", type=float, default=2.5e-5, help="s, the model's step")
     p.add_argument("--kernel", choices=["basset", "mei"], default="basset")
+    p.add_argument("--drag", choices=["schiller_naumann", "stokes"], default="schiller_naumann")
     p.add_argument("--compare", help="a run's timeseries.csv")
     args = p.parse_args()
 
     speeds = settling_speeds(args.diameter, args.density, args.fluid_density, args.viscosity, args.gravity,
-                             args.end, args.dt, args.kernel)
+                             args.end, args.dt, args.kernel, args.drag)
     run = run_speeds(args.compare) if args.compare else None
     stride = int(round(args.every / args.dt))
     print("t_s,model_m_s" + (",run_m_s,deviation" if run else ""))

@@ -125,25 +125,17 @@ for case, (du, dgap, n_u, n_gap), (du2, dgap2, n_u2, n_gap2) in bands:
 
 # The start: the sphere released from rest at t = 0 in an unbounded fluid, by the
 # Basset-Boussinesq-Oseen equation at low Reynolds number (Maxey and Riley 1983, doi:10.1063/1.864230):
-#   (m_p + m_f/2) du/dt = (m_p - m_f) g - 3 pi mu d u - (3/2) d^2 sqrt(pi rho_f mu) int_0^t u'(s) / sqrt(t - s) ds.
+# Stokes drag, added mass and Basset's history force, solved by scripts/sphere_release_transient.py.
 # Before the walls (3.3 d away) and the wake matter, the resolved sphere should follow it; the table
 # shows whether the first digitised points of the experiment are consistent with a release at t = 0.
+sys.path.insert(0, "scripts")
+from sphere_release_transient import settling_speeds
+
+
 def bbo_release(rho_p, rho_f, mu, d, g, t_end, n=2000):
-    import math
-    v = math.pi * d ** 3 / 6
-    mp, mf = rho_p * v, rho_f * v
     dt = t_end / n
-    history = 1.5 * d * d * math.sqrt(math.pi * rho_f * mu)
-    acc, u, out = [], 0.0, [(0.0, 0.0)]
-    for k in range(n):
-        t = k * dt
-        # Piecewise-constant accelerations: the kernel 1/sqrt(t - s) integrated exactly per interval.
-        basset = sum(a * 2 * (math.sqrt(t - j * dt) - math.sqrt(max(t - (j + 1) * dt, 0.0))) for j, a in enumerate(acc))
-        a = ((mp - mf) * g - 3 * math.pi * mu * d * u - history * basset) / (mp + 0.5 * mf)
-        acc.append(a)
-        u += a * dt
-        out.append(((k + 1) * dt, u))
-    return out
+    speeds = settling_speeds(d, rho_p, rho_f, mu, g, t_end, dt, kernel="basset", drag="stokes")
+    return [(k * dt, u) for k, u in enumerate(speeds)]
 
 print("\nThe start (m/s, downward): measured / settle / the BBO equation for a release from rest at t = 0")
 setup = reference["tenCate2002_setup"]["fields"]
