@@ -70,7 +70,7 @@ void BM_MultiDirectForcing(benchmark::State& state) {
   }
   state.counters["markers"] = n;
 }
-BENCHMARK(BM_MultiDirectForcing)->Arg(8)->Arg(10)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MultiDirectForcing)->Arg(3)->Arg(8)->Arg(10)->Unit(benchmark::kMicrosecond);
 
 // Volume fractions of the cells the default case's body overlaps (a prolate spheroid of aspect
 // ratio 2 at 8 cells per equivalent diameter, tilted 0.5 rad, off the grid's symmetric positions):

@@ -1,5 +1,8 @@
 #include "ibm/forcing.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -11,16 +14,39 @@ Stencil local_stencil(const LocalGrid& grid, DeltaKernel kernel, const Eigen::Ve
   return stencil_at(kernel, x.x() - o[0], x.y() - o[1], x.z() - o[2]);
 }
 
-// Applies `visit(cell_index, weight)` to every cell of a stencil, in a fixed order so that the
-// sums are the same on every run and thread count.
+// Below this many markers the forcing runs on one thread: a few dozen markers take about as long
+// as the parallel region's wake-up and its barriers, a few microseconds (docs/performance.md,
+// "Small grids").
+constexpr std::size_t kMarkersWorthThreads = 64;
+
+// The box's planes k in [begin, end).
+struct PlaneRange {
+  int begin = 0, end = 0;
+};
+
+// This thread's share of the box's planes: contiguous, so that each cell is written by one thread.
+PlaneRange planes_of_this_thread(int planes) {
+  const int threads = omp_get_num_threads(), thread = omp_get_thread_num();
+  return {planes * thread / threads, planes * (thread + 1) / threads};
+}
+
+// Applies `visit(cell_index, weight)` to the cells of a stencil that lie in `planes`, in a fixed
+// order, so that the sums are the same on every run and thread count.
 template <class Visit>
-void for_each_cell(const LocalGrid& grid, const Stencil& s, Visit&& visit) {
-  for (int k = 0; k < s.axis[2].width; ++k)
+void for_each_cell_in(const LocalGrid& grid, const Stencil& s, PlaneRange planes, Visit&& visit) {
+  const int k_begin = std::max(0, planes.begin - s.axis[2].first);
+  const int k_end = std::min(s.axis[2].width, planes.end - s.axis[2].first);
+  for (int k = k_begin; k < k_end; ++k)
     for (int j = 0; j < s.axis[1].width; ++j)
       for (int i = 0; i < s.axis[0].width; ++i) {
         const std::size_t c = grid.index(s.axis[0].first + i, s.axis[1].first + j, s.axis[2].first + k);
         visit(c, s.weight(i, j, k));
       }
+}
+
+template <class Visit>
+void for_each_cell(const LocalGrid& grid, const Stencil& s, Visit&& visit) {
+  for_each_cell_in(grid, s, {s.axis[2].first, s.axis[2].first + s.axis[2].width}, visit);
 }
 
 double interpolate_density(const LocalGrid& grid, const Stencil& stencil) {
@@ -82,54 +108,107 @@ Eigen::Vector3d interpolate_velocity(const LocalGrid& grid, const Stencil& stenc
   return u;
 }
 
-void spread_force(LocalGrid& grid, const Stencil& stencil, const Eigen::Vector3d& f, double volume) {
-  for_each_cell(grid, stencil, [&](std::size_t c, double w) {
+namespace {
+
+void spread_force_in(LocalGrid& grid, const Stencil& stencil, const Eigen::Vector3d& f, double volume,
+                     PlaneRange planes) {
+  for_each_cell_in(grid, stencil, planes, [&](std::size_t c, double w) {
     for (int a = 0; a < 3; ++a) grid.force[a][c] += w * volume * f[a];
   });
 }
 
-ForcingResult multi_direct_forcing(LocalGrid& grid, const Markers& markers, const ForcingOptions& options) {
-  std::vector<Stencil> stencils(markers.size());
-  std::vector<double> marker_rho(markers.size());
-  for (std::size_t l = 0; l < markers.size(); ++l) {
-    stencils[l] = local_stencil(grid, options.kernel, markers.position[l]);
-    if (!grid.contains(stencils[l]))
-      throw std::logic_error("multi_direct_forcing: a marker's stencil leaves the cell box");
-    marker_rho[l] = interpolate_density(grid, stencils[l]);
-  }
-  std::vector<double> half_over_rho(grid.cell_count());
-  for (std::size_t c = 0; c < half_over_rho.size(); ++c) half_over_rho[c] = 0.5 / grid.rho[c];
-  const auto slip_at_markers = [&] {
-    std::vector<Eigen::Vector3d> slip(markers.size());
-    for (std::size_t l = 0; l < markers.size(); ++l)
-      slip[l] = markers.target_velocity[l] - interpolate_current_velocity(grid, half_over_rho, stencils[l]);
-    return slip;
-  };
+}  // namespace
 
-  // Each sweep interpolates all markers first and spreads afterwards (a Jacobi sweep), so the
-  // result does not depend on the order of the markers. The first sweep's slips are the slips
-  // before any forcing.
+void spread_force(LocalGrid& grid, const Stencil& stencil, const Eigen::Vector3d& f, double volume) {
+  spread_force_in(grid, stencil, f, volume, {0, grid.extent()[2]});
+}
+
+namespace {
+
+// What one forcing keeps between its sweeps. Shared by the threads of its parallel region; the
+// functions below are called by every thread of it and share their loops among them.
+struct ForcingWork {
+  explicit ForcingWork(const LocalGrid& grid, const Markers& markers)
+      : stencils(markers.size()), marker_rho(markers.size()), half_over_rho(grid.cell_count()), slip(markers.size()) {}
+  std::vector<Stencil> stencils;
+  std::vector<double> marker_rho;
+  // 1 / (2 rho) of each cell, computed once per forcing rather than at every interpolation.
+  std::vector<double> half_over_rho;
+  std::vector<Eigen::Vector3d> slip;
+};
+
+// Sets `outside` (shared by the region's threads) when a marker's stencil leaves the box.
+void place_stencils(const LocalGrid& grid, const Markers& markers, DeltaKernel kernel, ForcingWork& work,
+                    bool& outside) {
+  const auto cells = static_cast<std::ptrdiff_t>(work.half_over_rho.size());
+#pragma omp for schedule(static) nowait
+  for (std::ptrdiff_t c = 0; c < cells; ++c)
+    work.half_over_rho[static_cast<std::size_t>(c)] = 0.5 / grid.rho[static_cast<std::size_t>(c)];
+  const auto count = static_cast<std::ptrdiff_t>(markers.size());
+#pragma omp for schedule(static) reduction(|| : outside)
+  for (std::ptrdiff_t l = 0; l < count; ++l) {
+    const auto m = static_cast<std::size_t>(l);
+    work.stencils[m] = local_stencil(grid, kernel, markers.position[m]);
+    if (!grid.contains(work.stencils[m])) {
+      outside = true;
+      continue;
+    }
+    work.marker_rho[m] = interpolate_density(grid, work.stencils[m]);
+  }
+}
+
+void measure_slips(const LocalGrid& grid, const Markers& markers, ForcingWork& work) {
+  const auto count = static_cast<std::ptrdiff_t>(markers.size());
+#pragma omp for schedule(static)
+  for (std::ptrdiff_t l = 0; l < count; ++l) {
+    const auto m = static_cast<std::size_t>(l);
+    work.slip[m] =
+        markers.target_velocity[m] - interpolate_current_velocity(grid, work.half_over_rho, work.stencils[m]);
+  }
+}
+
+// Each thread adds every marker's share to its own slab of planes, in marker order: the same sums
+// as on one thread, bit for bit.
+void spread_slips(LocalGrid& grid, const Markers& markers, const ForcingWork& work, PlaneRange planes) {
+  for (std::size_t m = 0; m < markers.size(); ++m)
+    spread_force_in(grid, work.stencils[m], 2.0 * work.marker_rho[m] * work.slip[m], markers.volume[m], planes);
+}
+
+}  // namespace
+
+ForcingResult multi_direct_forcing(LocalGrid& grid, const Markers& markers, const ForcingOptions& options) {
+  ForcingWork work(grid, markers);
   ForcingResult result;
   result.marker_force.assign(markers.size(), Eigen::Vector3d::Zero());
-  for (int sweep = 0; sweep < options.iterations; ++sweep) {
-    const std::vector<Eigen::Vector3d> slip = slip_at_markers();
-    if (sweep == 0) {
-      const SlipStats before = slip_stats(slip);
-      result.slip_max_before = before.max;
-      result.slip_rms_before = before.rms;
+  SlipStats before;
+  bool outside = false;
+  // One parallel region for the whole forcing. Each sweep interpolates all markers first and
+  // spreads afterwards (a Jacobi sweep), so the result does not depend on the order of the markers.
+#pragma omp parallel if (markers.size() >= kMarkersWorthThreads)
+  {
+    place_stencils(grid, markers, options.kernel, work, outside);
+    const PlaneRange planes = planes_of_this_thread(grid.extent()[2]);
+    for (int sweep = 0; sweep < options.iterations && !outside; ++sweep) {
+      measure_slips(grid, markers, work);
+#pragma omp single nowait
+      {
+        // The first sweep's slips are the slips before any forcing. No thread overwrites the
+        // slips before the barrier that closes this sweep.
+        if (sweep == 0) before = slip_stats(work.slip);
+        for (std::size_t m = 0; m < markers.size(); ++m)
+          result.marker_force[m] += 2.0 * work.marker_rho[m] * work.slip[m];
+      }
+      spread_slips(grid, markers, work, planes);
+#pragma omp barrier
     }
-    for (std::size_t l = 0; l < markers.size(); ++l) {
-      const Eigen::Vector3d increment = 2.0 * marker_rho[l] * slip[l];
-      spread_force(grid, stencils[l], increment, markers.volume[l]);
-      result.marker_force[l] += increment;
-    }
+    if (!outside) measure_slips(grid, markers, work);
   }
+  if (outside) throw std::logic_error("multi_direct_forcing: a marker's stencil leaves the cell box");
 
-  const SlipStats after = slip_stats(slip_at_markers());
-  if (options.iterations == 0) {
-    result.slip_max_before = after.max;
-    result.slip_rms_before = after.rms;
-  }
+  const SlipStats after = slip_stats(work.slip);
+  if (options.iterations == 0) before = after;
+  result.slip_max_before = before.max;
+  result.slip_rms_before = before.rms;
   result.slip_max_after = after.max;
   result.slip_rms_after = after.rms;
   return result;

@@ -27,6 +27,10 @@
 
 namespace settle::lbm {
 
+/// Below this many wall links their preparation runs on one thread: a parallel loop's wake-up
+/// costs a few microseconds, a link about 0.1 us (docs/performance.md, "Small grids").
+inline constexpr std::ptrdiff_t kLinksWorthThreads = 128;
+
 /// A page-aligned, uninitialised array of trivially copyable T.
 template <class T>
 class AlignedArray {
@@ -1249,7 +1253,7 @@ std::vector<typename AaSolver<L, Collision, Real>::PreparedLink> AaSolver<L, Col
   // the first bad link's (the serial loop's) is kept and thrown after it.
   std::ptrdiff_t first_bad = count;
   std::exception_ptr error;
-#pragma omp parallel for schedule(static) if (threaded_ && count > 1024)
+#pragma omp parallel for schedule(static) if (threaded_ && count > kLinksWorthThreads)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     try {
       prepared[static_cast<std::size_t>(k)] = prepare_link(obstacle.links[static_cast<std::size_t>(k)], obstacle.rule);

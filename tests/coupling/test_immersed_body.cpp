@@ -268,8 +268,9 @@ TEST(Bookkeeping, SteadyTranslationHasNoInternalMomentumRateAfterTheStart) {
 TEST(Determinism, FreeBodyIsTheSameWithOneAndTwoThreads) {
   // A free, heavy sphere released in fluid at rest, 30 steps with 1 and with 2 OpenMP threads, with
   // each coupling. The fluid kernel updates every cell independently of how cells are split among
-  // threads, the momentum exchange's walls are found plane by plane and joined in plane order, and
-  // every sum of the couplings runs serially in a fixed order, so the results must be identical
+  // threads, the momentum exchange's walls are found plane by plane and joined in plane order, the
+  // immersed boundary spreads its forces slab by slab in marker order, and every other sum of the
+  // couplings runs serially in a fixed order, so the results must be identical
   // bit for bit (no tolerance: any difference means an order-dependent reduction crept in). The
   // 32^3 box is above the size at which the fluid solver and the wall links go parallel.
   const auto run_with = [](int threads, CouplingKind coupling) {
