@@ -68,10 +68,13 @@ vtk_interval = 0.005
 )toml";
 
 // mpirun as CTest found it; leak detection off under the sanitizers (Open MPI's start-up
-// allocations, as for tests/parallel/).
+// allocations, as for tests/parallel/); a session directory of this test process's own (see
+// tests/app/CMakeLists.txt).
 std::string launcher(int ranks, const std::string& options = "") {
+  const std::string sessions = std::string(SETTLE_MPI_SESSIONS) + "/" + std::to_string(::getpid());
   return std::string("ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 ") + SETTLE_MPIEXEC +
-         " --oversubscribe --allow-run-as-root " + options + "-n " + std::to_string(ranks) + " ";
+         " --oversubscribe --allow-run-as-root --mca orte_tmpdir_base " + sessions + " " + options + "-n " +
+         std::to_string(ranks) + " ";
 }
 
 // When a rank exits with an error status (143 after a signal), mpirun stops the others: SIGTERM,
