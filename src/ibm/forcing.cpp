@@ -137,7 +137,8 @@ struct ForcingWork {
   std::vector<Eigen::Vector3d> slip;
 };
 
-// Sets `outside` (shared by the region's threads) when a marker's stencil leaves the box.
+// Sets `outside` (shared by the region's threads; read after the loop's closing barrier) when a
+// marker's stencil leaves the box.
 void place_stencils(const LocalGrid& grid, const Markers& markers, DeltaKernel kernel, ForcingWork& work,
                     bool& outside) {
   const auto cells = static_cast<std::ptrdiff_t>(work.half_over_rho.size());
@@ -145,11 +146,12 @@ void place_stencils(const LocalGrid& grid, const Markers& markers, DeltaKernel k
   for (std::ptrdiff_t c = 0; c < cells; ++c)
     work.half_over_rho[static_cast<std::size_t>(c)] = 0.5 / grid.rho[static_cast<std::size_t>(c)];
   const auto count = static_cast<std::ptrdiff_t>(markers.size());
-#pragma omp for schedule(static) reduction(|| : outside)
+#pragma omp for schedule(static)
   for (std::ptrdiff_t l = 0; l < count; ++l) {
     const auto m = static_cast<std::size_t>(l);
     work.stencils[m] = local_stencil(grid, kernel, markers.position[m]);
     if (!grid.contains(work.stencils[m])) {
+#pragma omp atomic write
       outside = true;
       continue;
     }

@@ -139,6 +139,11 @@ TEST(MultiDirectForcing, StencilOutsideTheBoxIsALogicError) {
   m.target_velocity.push_back(Vector3d::Zero());
   m.volume.push_back(1.0);
   EXPECT_THROW(multi_direct_forcing(g, m, {}), std::logic_error);
+  // The same on the threaded path (452 markers), where the threads share the finding: a sphere of
+  // radius 6 cells in a box of 12 cells.
+  LocalGrid small({0, 0, 0}, {12, 12, 12});
+  EXPECT_THROW(multi_direct_forcing(small, sphere_markers(Vector3d(6.0, 6.0, 6.0), 6.0, Vector3d::Zero()), {}),
+               std::logic_error);
 }
 
 TEST(VolumeFraction, ExactForAPlaneParallelToAFace) {
