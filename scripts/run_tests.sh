@@ -8,7 +8,7 @@
 #               and case tests but the `heavy` ones (scripts/run_sanitizer_tests.sh)
 #   fuzz        link the libFuzzer targets of that build and fuzz the case parser and the STL
 #               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
-# On the 2-core development machine, 2026-11-27 to 29, from a clean clone: about 4-9, 7-13 and 1 minutes (697-1160 s in all, idle)
+# On the 2-core development machine, 2026-11-27 to 29, from a clean clone: about 4-9, 7-13 and 1 minutes (680-1160 s in all, idle)
 # (docs/notes.md, "The test command's time").
 # SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
 # Validation runs are separate (docs/validation.md).
