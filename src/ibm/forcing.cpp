@@ -82,48 +82,12 @@ SlipStats slip_stats(const std::vector<Eigen::Vector3d>& slip) {
   return s;
 }
 
-}  // namespace
-
-LocalGrid::LocalGrid(std::array<int, 3> origin, std::array<int, 3> extent) : origin_(origin), extent_(extent) {
-  const std::size_t n = static_cast<std::size_t>(extent[0]) * extent[1] * extent[2];
-  rho.assign(n, 1.0);
-  for (auto& v : velocity) v.assign(n, 0.0);
-  for (auto& f : force) f.assign(n, 0.0);
-}
-
-bool LocalGrid::contains(const Stencil& stencil) const {
-  for (int a = 0; a < 3; ++a) {
-    const auto& s = stencil.axis[a];
-    if (s.first < 0 || s.first + s.width > extent_[a]) return false;
-  }
-  return true;
-}
-
-Eigen::Vector3d interpolate_velocity(const LocalGrid& grid, const Stencil& stencil) {
-  Eigen::Vector3d u = Eigen::Vector3d::Zero();
-  for_each_cell(grid, stencil, [&](std::size_t c, double w) {
-    const double half_force_factor = 0.5 / grid.rho[c];
-    for (int a = 0; a < 3; ++a) u[a] += w * (grid.velocity[a][c] + half_force_factor * grid.force[a][c]);
-  });
-  return u;
-}
-
-namespace {
-
 void spread_force_in(LocalGrid& grid, const Stencil& stencil, const Eigen::Vector3d& f, double volume,
                      PlaneRange planes) {
   for_each_cell_in(grid, stencil, planes, [&](std::size_t c, double w) {
     for (int a = 0; a < 3; ++a) grid.force[a][c] += w * volume * f[a];
   });
 }
-
-}  // namespace
-
-void spread_force(LocalGrid& grid, const Stencil& stencil, const Eigen::Vector3d& f, double volume) {
-  spread_force_in(grid, stencil, f, volume, {0, grid.extent()[2]});
-}
-
-namespace {
 
 // What one forcing keeps between its sweeps. Shared by the threads of its parallel region; the
 // functions below are called by every thread of it and share their loops among them.
@@ -177,6 +141,34 @@ void spread_slips(LocalGrid& grid, const Markers& markers, const ForcingWork& wo
 }
 
 }  // namespace
+
+LocalGrid::LocalGrid(std::array<int, 3> origin, std::array<int, 3> extent) : origin_(origin), extent_(extent) {
+  const std::size_t n = static_cast<std::size_t>(extent[0]) * extent[1] * extent[2];
+  rho.assign(n, 1.0);
+  for (auto& v : velocity) v.assign(n, 0.0);
+  for (auto& f : force) f.assign(n, 0.0);
+}
+
+bool LocalGrid::contains(const Stencil& stencil) const {
+  for (int a = 0; a < 3; ++a) {
+    const auto& s = stencil.axis[a];
+    if (s.first < 0 || s.first + s.width > extent_[a]) return false;
+  }
+  return true;
+}
+
+Eigen::Vector3d interpolate_velocity(const LocalGrid& grid, const Stencil& stencil) {
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  for_each_cell(grid, stencil, [&](std::size_t c, double w) {
+    const double half_force_factor = 0.5 / grid.rho[c];
+    for (int a = 0; a < 3; ++a) u[a] += w * (grid.velocity[a][c] + half_force_factor * grid.force[a][c]);
+  });
+  return u;
+}
+
+void spread_force(LocalGrid& grid, const Stencil& stencil, const Eigen::Vector3d& f, double volume) {
+  spread_force_in(grid, stencil, f, volume, {0, grid.extent()[2]});
+}
 
 ForcingResult multi_direct_forcing(LocalGrid& grid, const Markers& markers, const ForcingOptions& options) {
   ForcingWork work(grid, markers);
