@@ -399,6 +399,12 @@ void run_case(const RunOptions& options) {
   const io::PreflightReport report = io::preflight(setup, checks);
   for (const auto& w : report.warnings) console.warning(w);
   warnings.insert(warnings.end(), report.warnings.begin(), report.warnings.end());
+  if (auto advice =
+          missing_checkpoint_advice(values.real("run.checkpoint_interval"), values.real("run.checkpoint_wall_interval"),
+                                    report.cell_count * report.steps)) {
+    console.warning(*advice);
+    warnings.push_back(*advice);
+  }
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
   if (options.dry_run) {
     if (options.threads > 0) omp_set_num_threads(options.threads);

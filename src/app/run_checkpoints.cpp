@@ -217,6 +217,18 @@ void remove_earlier_checkpoint(const fs::path& run_dir) {
   }
 }
 
+std::optional<std::string> missing_checkpoint_advice(double checkpoint_interval_si, double checkpoint_wall_interval_s,
+                                                     double cell_updates) {
+  if (checkpoint_interval_si > 0.0 || checkpoint_wall_interval_s > 0.0 || cell_updates < kLongRunCellUpdates)
+    return std::nullopt;
+  return fmt::format(
+      "run.checkpoint_interval: this run makes {:.2g} cell updates and keeps no checkpoint (run.checkpoint_interval "
+      "and run.checkpoint_wall_interval are 0): after it ends it cannot be continued to a later run.end_time "
+      "(settle run --restart), and a crash loses all of it; set run.checkpoint_wall_interval (e.g. 1800 s) or "
+      "run.checkpoint_interval (docs/checkpoints.md)",
+      cell_updates);
+}
+
 // RunCheckpoints
 
 RunCheckpoints::RunCheckpoints(fs::path run_dir, std::string resolved_case, std::string case_name)

@@ -56,6 +56,18 @@ void check_restart_flags(const std::string& restart_dir, const std::string& case
 /// when it cannot be removed.
 void remove_earlier_checkpoint(const std::filesystem::path& run_dir);
 
+/// A warning for a long run that keeps no checkpoint (run.checkpoint_interval and
+/// run.checkpoint_wall_interval both 0): once it has ended, `settle run --restart DIR --set
+/// run.end_time=T` has nothing to continue from, and a crash loses the whole run. Empty when
+/// either interval is set or the run makes fewer than kLongRunCellUpdates cell updates.
+std::optional<std::string> missing_checkpoint_advice(double checkpoint_interval_si, double checkpoint_wall_interval_s,
+                                                     double cell_updates);
+
+/// Cell updates (cells x steps) from which a run counts as long for missing_checkpoint_advice:
+/// 20-30 minutes at 60-80 million updates a second, the speed of the 10^7-cell validation runs on
+/// two threads of the development machine (their wall times in docs/validation.md).
+inline constexpr double kLongRunCellUpdates = 1e11;
+
 /// Writes DIR/checkpoint.bin for one run (atomically: the previous checkpoint stays whole until
 /// the new one is complete).
 class RunCheckpoints {

@@ -328,6 +328,22 @@ TEST(RunCli, DryRunPrintsThePlanTheRunUsesAndWritesNothing) {
   fs::remove_all(ran);
 }
 
+// A long run without checkpoints cannot be continued once it has ended: the shipped fixed-sphere
+// case (4.2e6 cells, 28 800 steps: 1.2e11 cell updates, above the 1e11 of kLongRunCellUpdates)
+// without its wall-clock checkpoints is warned about before it starts, and not with them.
+TEST(RunCli, ALongRunWithoutCheckpointsIsWarnedAbout) {
+  const std::string args =
+      case_file("fixed_sphere_stream.toml") + " --dry-run --threads 1 -q -o " + scratch("long_run_advice").string();
+  const Result bare = run_settle(args + " --set run.checkpoint_wall_interval=0");
+  ASSERT_EQ(bare.status, 0) << bare.err;
+  EXPECT_NE(bare.err.find("keeps no checkpoint"), std::string::npos) << bare.err;
+  EXPECT_NE(bare.err.find("run.checkpoint_wall_interval"), std::string::npos) << bare.err;
+
+  const Result kept = run_settle(args);
+  ASSERT_EQ(kept.status, 0) << kept.err;
+  EXPECT_EQ(kept.err.find("keeps no checkpoint"), std::string::npos) << kept.err;
+}
+
 TEST(RunCli, DryRunRefusesARestart) {
   const Result r = run_settle("--dry-run --restart " + scratch("dry_run_restart").string());
   EXPECT_EQ(r.status, 2);
