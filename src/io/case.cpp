@@ -253,6 +253,12 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
         fmt::format("particle.release_time: {:g} s is not before run.end_time ({:g} s), so the body would "
                     "never move freely; lower it or raise run.end_time",
                     s.release_time_si, v.real("run.end_time")));
+  s.hold_ramp_time_si = v.real("particle.hold_ramp_time");
+  if (s.hold_ramp_time_si > s.release_time_si)
+    throw InputError(fmt::format(
+        "particle.hold_ramp_time: {:g} s is longer than the hold (particle.release_time = {:g} s); allowed: 0 to "
+        "particle.release_time",
+        s.hold_ramp_time_si, s.release_time_si));
   if (s.motion == body::MotionKind::fixed) {
     s.initial.velocity_si.setZero();
     s.initial.angular_velocity_b_si.setZero();

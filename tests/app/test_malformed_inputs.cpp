@@ -374,6 +374,11 @@ TEST_F(MalformedInput, ReleaseAfterTheEndOfTheRun) {
                      {"particle.release_time", "run.end_time"});
 }
 
+TEST_F(MalformedInput, HoldRampLongerThanTheHold) {
+  expect_refused_set("--set run.end_time=0.1 --set particle.release_time=0.01 --set particle.hold_ramp_time=0.02",
+                     {"particle.hold_ramp_time", "particle.release_time", "0 to"});
+}
+
 TEST_F(MalformedInput, NegativeReleaseTime) {
   expect_refused_set("--set particle.release_time=-0.01", {"release_time", "must be >= 0"});
 }
