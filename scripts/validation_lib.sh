@@ -11,16 +11,20 @@ settle_binary() {
 }
 
 # run_validation_case NAME CELLS [extra `settle run` arguments...]: runs cases/NAME.toml at CELLS
-# cells per diameter into RUNS_DIR/NAME_nCELLS (printed as the last line), records the wall time in
+# cells per diameter into RUNS_DIR/NAME_nCELLS, or at the case file's own resolution into
+# RUNS_DIR/NAME when CELLS is "case" (the folder printed as the last line), records the wall time in
 # wall_seconds.txt there, and writes `settle analyze` to analysis.txt.
 run_validation_case() {
   local name=$1 cells=$2
   shift 2
-  local dir="${RUNS_DIR:-runs}/${name}_n${cells}" start
-  echo "== ${name}, ${cells} cells per diameter -> ${dir}" >&2
+  local dir="${RUNS_DIR:-runs}/${name}_n${cells}" start resolution=(--set "numerics.cells_per_diameter=${cells}")
+  if [[ $cells == case ]]; then
+    dir="${RUNS_DIR:-runs}/${name}"
+    resolution=()
+  fi
+  echo "== ${name}, cells per diameter: ${cells} -> ${dir}" >&2
   start=$(date +%s)
-  "${SETTLE}" run "cases/${name}.toml" -o "${dir}" --set "numerics.cells_per_diameter=${cells}" \
-    --threads "${THREADS:-0}" "$@" >&2
+  "${SETTLE}" run "cases/${name}.toml" -o "${dir}" "${resolution[@]}" --threads "${THREADS:-0}" "$@" >&2
   echo "$(($(date +%s) - start))" >"${dir}/wall_seconds.txt"
   "${SETTLE}" analyze "${dir}" | tee "${dir}/analysis.txt" >&2
   echo "${dir}"
