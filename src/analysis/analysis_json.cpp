@@ -82,6 +82,8 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   json lateral;
   lateral["drift_velocity"] = a.lateral_drift_speed_si;
   lateral["path_angle_deg"] = a.path_angle_deg;
+  lateral["drift_azimuth_deg"] = optional_json(a.drift_azimuth_deg);
+  lateral["drift_turn_rate_deg_per_s"] = optional_json(a.drift_turn_rate_deg_per_s);
   lateral["displacement"] = a.lateral_displacement_si;
   lateral["amplitude"] = a.lateral_amplitude_si;
   lateral["minor_amplitude"] = a.lateral_minor_amplitude_si;

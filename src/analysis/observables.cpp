@@ -172,6 +172,52 @@ void velocity_and_path(const WindowSeries& w, const VerticalFrame& frame, Analys
   a.lateral_displacement_si = (moved - moved.dot(frame.down) * frame.down).norm();
 }
 
+// The horizontal axes azimuths are measured in: x projected on the horizontal plane (y when g is
+// nearly along x), and its counter-clockwise normal seen from above.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> azimuth_axes(const VerticalFrame& frame) {
+  Eigen::Vector3d east = Eigen::Vector3d::UnitX() - frame.down.x() * frame.down;
+  if (east.norm() < 0.1) east = Eigen::Vector3d::UnitY() - frame.down.y() * frame.down;
+  east.normalize();
+  return {east, (-frame.down).cross(east)};
+}
+
+struct Drift {
+  double azimuth_rad = 0.0;
+  bool oblique = false;  // at least the regime's oblique angle from the vertical
+};
+
+Drift mean_drift(const std::vector<double>& t, const std::vector<Eigen::Vector3d>& velocity, const VerticalFrame& frame,
+                 double oblique_angle_deg) {
+  const Eigen::Vector3d mean = time_mean(t, velocity);
+  const auto [east, north] = azimuth_axes(frame);
+  const double horizontal = std::hypot(mean.dot(east), mean.dot(north));
+  const double angle_deg = std::atan2(horizontal, std::abs(mean.dot(frame.down))) * kDegreesPerRadian;
+  return {std::atan2(mean.dot(north), mean.dot(east)), angle_deg >= oblique_angle_deg};
+}
+
+// The azimuth of an oblique path and its turning between the first and last quarters of the
+// window (a steady oblique path in a bounded domain may turn towards where the walls are
+// farthest; docs/analysis.md).
+void drift_direction(const WindowSeries& w, const VerticalFrame& frame, double oblique_angle_deg, Analysis& a) {
+  const Drift whole = mean_drift(w.t, w.velocity, frame, oblique_angle_deg);
+  if (!whole.oblique) return;
+  a.drift_azimuth_deg = whole.azimuth_rad * kDegreesPerRadian;
+  const double quarter = 0.25 * (w.t.back() - w.t.front());
+  const auto first_end = std::upper_bound(w.t.begin(), w.t.end(), w.t.front() + quarter) - w.t.begin();
+  const auto last_begin = std::lower_bound(w.t.begin(), w.t.end(), w.t.back() - quarter) - w.t.begin();
+  if (first_end < 2 || std::ssize(w.t) - last_begin < 2) return;
+  const auto part = [&](auto begin, auto end) {
+    const std::vector<double> t(w.t.begin() + begin, w.t.begin() + end);
+    const std::vector<Eigen::Vector3d> u(w.velocity.begin() + begin, w.velocity.begin() + end);
+    return std::pair{mean_drift(t, u, frame, oblique_angle_deg), 0.5 * (t.front() + t.back())};
+  };
+  const auto [first, first_mid] = part(0, first_end);
+  const auto [last, last_mid] = part(last_begin, std::ssize(w.t));
+  if (!first.oblique || !last.oblique || !(last_mid > first_mid)) return;
+  const double turn = std::remainder(last.azimuth_rad - first.azimuth_rad, 2.0 * kPi);
+  a.drift_turn_rate_deg_per_s = turn * kDegreesPerRadian / (last_mid - first_mid);
+}
+
 // Mordant and Pinton 2000 (Eur. Phys. J. B 18, 343, doi:10.1007/s100510070066) characterise a
 // sphere's transient by t_95, the time to 95% of the terminal velocity, from a fit
 // u = U_t (1 - exp(-3 t / t_95)); here it is the first crossing of 0.95 U_t in the samples, which
@@ -477,6 +523,7 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   a.axis = properties.axis;
 
   velocity_and_path(w, frame, a);
+  drift_direction(w, frame, options.thresholds.oblique_path_angle_deg, a);
   time_to_95_percent(series, frame, a);
   dimensionless_groups(properties, a);
   drag(w, properties, a);

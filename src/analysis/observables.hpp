@@ -117,6 +117,15 @@ struct Analysis {
   double lateral_drift_speed_si = 0.0;   ///< |mean horizontal velocity|
   double path_angle_deg = 0.0;           ///< mean velocity from the vertical line, [0, 90]
   double lateral_displacement_si = 0.0;  ///< horizontal distance moved over the window
+  /// Direction of the mean horizontal velocity, degrees in (-180, 180], counter-clockwise seen from
+  /// above, from the horizontal projection of the x axis (of the y axis when g is along x). Empty
+  /// when the path is less than the regime's oblique angle from the vertical.
+  std::optional<double> drift_azimuth_deg;
+  /// How fast the drift's direction turns, degrees per second (counter-clockwise positive): the
+  /// azimuth of the mean horizontal velocity over the window's last quarter minus that over its
+  /// first quarter, wrapped to (-180, 180], over the time between the quarters' midpoints. Empty
+  /// when either quarter's path is less than the oblique angle from the vertical.
+  std::optional<double> drift_turn_rate_deg_per_s;
   /// Time from the first sample at which the velocity along g first reaches 95% of the terminal
   /// vertical velocity (linear interpolation between samples): Mordant and Pinton's t_95. Empty
   /// unless the terminal state was reached, the body sinks, and the first sample is below 95%.

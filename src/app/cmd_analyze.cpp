@@ -127,6 +127,10 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
                      a.window_samples, a.averaged_over_terminal_window ? "terminal window" : "second half of the run");
   out << fmt::format("  velocity         |U| = {:.5g} m/s, along g {:.5g} m/s, path {:.3g} deg from vertical\n",
                      a.terminal_speed_si, a.vertical_velocity_si, a.path_angle_deg);
+  if (a.drift_azimuth_deg)
+    out << fmt::format(
+        "  drift            azimuth {:.4g} deg (from x, counter-clockwise from above), turning {} deg/s\n",
+        *a.drift_azimuth_deg, optional_text(a.drift_turn_rate_deg_per_s, "{:.3g}"));
   out << fmt::format(
       "  groups           Re = {:.4g}, Ga = {:.4g}, Ar = {:.4g}, St = {:.4g}, rho_p/rho_f = {:.4g}, "
       "I* = {}\n",

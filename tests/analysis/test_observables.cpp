@@ -170,6 +170,45 @@ TEST(Observables, UhlmannDusekObliqueSphereHasThePublishedReynoldsNumberAndAngle
   const double drag = 4.0 / 3.0 * 0.5 * 9.81 * 1e-3 * std::cos(angle) / (speed * speed);
   EXPECT_NEAR(small.drag_coefficient, drag, 1e-12 * drag);
   EXPECT_EQ(small.regime.regime, Regime::steady_oblique);
+  // The drift's direction is 0.3 rad from x and does not turn: round-off.
+  ASSERT_TRUE(small.drift_azimuth_deg && small.drift_turn_rate_deg_per_s);
+  EXPECT_NEAR(*small.drift_azimuth_deg, 0.3 / kDegree, 1e-10);
+  EXPECT_NEAR(*small.drift_turn_rate_deg_per_s, 0.0, 1e-9);
+}
+
+// A drift of constant size whose direction turns at a constant rate: the trapezoidal mean over
+// uniformly spaced samples symmetric about their mid-time points exactly at the mid-time
+// direction, so the rate between the quarters' means is the imposed one to round-off. Started at
+// 150 degrees and turning counter-clockwise, the drift crosses 180 degrees, where the azimuth
+// wraps; the mean over the window points at its mid-time direction too.
+TEST(Observables, DriftTurningAtAConstantRateHasThatRateAcrossTheWrap) {
+  const ParticleProperties sphere = settle::test::sphere_in_water(1e-3);
+  const double start = 150.0 * kDegree, rate = 40.0 * kDegree, drift = 0.01;
+  Motion motion;
+  motion.velocity = [=](double t) -> Eigen::Vector3d {
+    return {drift * std::cos(start + rate * t), drift * std::sin(start + rate * t), -0.08};
+  };
+  const Analysis a = analyse(sample_motion(motion, 0.002, 2.0), sphere);
+  ASSERT_TRUE(a.drift_azimuth_deg && a.drift_turn_rate_deg_per_s);
+  EXPECT_NEAR(*a.drift_turn_rate_deg_per_s, 40.0, 1e-9 * 40.0);
+  const double mid_deg =
+      std::remainder(start + rate * 0.5 * (a.window_start_si + a.window_end_si), 2.0 * kPi) / kDegree;
+  EXPECT_NEAR(*a.drift_azimuth_deg, mid_deg, 1e-9);
+  EXPECT_GT(150.0 + 40.0 * a.window_end_si, 180.0);  // the window crosses 180 degrees
+  const nlohmann::ordered_json j = to_json(a);
+  EXPECT_EQ(j["lateral"]["drift_turn_rate_deg_per_s"].get<double>(), *a.drift_turn_rate_deg_per_s);
+}
+
+// With g along x the azimuths are measured from y, counter-clockwise seen from above, that is
+// about the upward -x: 90 degrees on from y is (-x) x y = -z.
+TEST(Observables, DriftAzimuthWithGravityAlongXIsMeasuredFromY) {
+  ParticleProperties sphere = settle::test::sphere_in_water(1e-3);
+  sphere.gravity_si = Eigen::Vector3d(9.81, 0.0, 0.0);
+  Motion motion;
+  motion.velocity = [](double) { return Eigen::Vector3d(0.08, 0.0, -0.01); };
+  const Analysis a = analyse(sample_motion(motion, 0.005, 2.0), sphere);
+  ASSERT_TRUE(a.drift_azimuth_deg);
+  EXPECT_NEAR(*a.drift_azimuth_deg, 90.0, 1e-10);
 }
 
 TEST(Observables, ZigzagDiskHasItsAmplitudesFrequencyAndStrouhalNumber) {
@@ -363,6 +402,7 @@ TEST(Analysis, JsonHoldsTheContractKeysAndNullsForUndefinedQuantities) {
   EXPECT_TRUE(j["dimensionless_inertia"].is_null());  // not a disk
   EXPECT_EQ(j["tilt"]["axis"], "none");
   EXPECT_TRUE(j["lateral"]["frequency"].is_null());
+  EXPECT_TRUE(j["lateral"]["drift_azimuth_deg"].is_null());  // a vertical path has no drift direction
   EXPECT_EQ(j["terminal_state"]["reached"], true);
   EXPECT_EQ(j["averaging"]["basis"], "terminal_window");
   // The trapezoidal mean of a constant over 300 samples: round-off of the sum, ~n eps.

@@ -72,9 +72,10 @@ TEST_P(ShippedCase, RunsFiveStepsAtItsDefaultResolution) {
   const std::string file = (cases_dir() / (name + ".toml")).string();
   const fs::path probe = scratch(name + "_probe"), dir = scratch(name);
   const bool held = toml::parse_file(file)["particle"]["release_time"].value_or(0.0) > 0.0;
+  const std::string start = held ? kFreeFromRest : "";
 
-  const auto first = settle::test::run_settle(
-      "run", file + " -o " + probe.string() + " --set run.end_time=1e-12 --threads 2" + (held ? kFreeFromRest : ""));
+  const auto first =
+      settle::test::run_settle("run", file + " -o " + probe.string() + " --set run.end_time=1e-12 --threads 2" + start);
   ASSERT_EQ(first.status, 0) << first.err;
   const double dt = read_summary(probe).at("dt").get<double>();
   fs::remove_all(probe);
@@ -83,8 +84,7 @@ TEST_P(ShippedCase, RunsFiveStepsAtItsDefaultResolution) {
   // 4.5 dt: the run takes the steps needed to reach the end time, 5 (coupling/time_control.hpp).
   const auto run = settle::test::run_settle(
       "run", file + " -o " + dir.string() +
-                 fmt::format(" --set run.end_time={:.17g} --set run.output_interval=0 --threads 2", 4.5 * dt) +
-                 (held ? kFreeFromRest : ""));
+                 fmt::format(" --set run.end_time={:.17g} --set run.output_interval=0 --threads 2", 4.5 * dt) + start);
   ASSERT_EQ(run.status, 0) << run.err;
   ASSERT_TRUE(fs::exists(dir / "timeseries.csv"));
   ASSERT_TRUE(fs::exists(dir / "summary.json"));
