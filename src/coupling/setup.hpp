@@ -30,9 +30,10 @@ struct SimulationSetup {
   /// Free bodies: until this time (s) the body keeps its initial velocity and angular velocity
   /// while the flow around it develops, then it moves freely (particle.release_time).
   double release_time_si = 0.0;
-  /// Free bodies held before their release: the held velocity and angular velocity grow linearly
-  /// from rest to the initial ones over this time (s; particle.hold_ramp_time), so that the fluid
-  /// is not struck by a body that starts at speed; 0: an impulsive start.
+  /// Free bodies held before their release, and towed bodies: the held (towing) velocity and
+  /// angular velocity grow linearly from rest to the initial ones over this time (s;
+  /// particle.hold_ramp_time), so that the fluid is not struck by a body that starts at speed; 0:
+  /// an impulsive start.
   double hold_ramp_time_si = 0.0;
 
   double fluid_density_si = 998.2;

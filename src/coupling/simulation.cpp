@@ -78,6 +78,13 @@ body::RigidBodyState held_state_at(const SimulationSetup& s, body::RigidBodyStat
 
 }  // namespace
 
+bool Simulation::ramping() const {
+  if (!(setup_.hold_ramp_time_si > 0.0)) return false;
+  if (setup_.motion == body::MotionKind::towed)
+    return static_cast<double>(steps_) * plan_.units.dt_si() < setup_.hold_ramp_time_si;
+  return held();
+}
+
 void SubstepTimers::add(const char* name, double seconds) {
   for (auto& [entry_name, total] : entries_)
     if (entry_name == name) {
@@ -110,9 +117,8 @@ Simulation::Simulation(SimulationSetup setup, parallel::Communicator& communicat
   window_anchor_ = frame_.to_lattice(setup_.initial.position_si);
 
   body::Environment environment{setup_.fluid_density_si, setup_.gravity_si};
-  const bool ramped = plan_.release_step > 0 && setup_.hold_ramp_time_si > 0.0;
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
-                                            ramped ? held_state_at(setup_, setup_.initial, 0.0) : setup_.initial,
+                                            ramping() ? held_state_at(setup_, setup_.initial, 0.0) : setup_.initial,
                                             setup_.motion);
   if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
   contact_ =
@@ -235,10 +241,9 @@ void Simulation::step() {
   {
     ScopedTimer timer(timers_, "body_corrector");
     const body::RigidBodyState start = body_->state();
+    const bool ramp = ramping();
     if (held()) {
       body_->hold(dt_si);
-      if (setup_.hold_ramp_time_si > 0.0)
-        body_->set_state(held_state_at(setup_, body_->state(), static_cast<double>(steps_ + 1) * dt_si));
     } else if (contact_) {
       const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic, virtual_inertia_);
       last_.contact = contact.mean_wrench;
@@ -246,6 +251,7 @@ void Simulation::step() {
     } else {
       body_->correct(dt_si, last_.hydrodynamic, virtual_inertia_);
     }
+    if (ramp) body_->set_state(held_state_at(setup_, body_->state(), static_cast<double>(steps_ + 1) * dt_si));
     // This step's mean accelerations are the next step's estimate a_est (the previous step's
     // acceleration, as waLBerla's AddVirtualForceTorqueKernel takes it): a lag of one step, so the
     // virtual terms m_v (a_est - a) vanish whenever the acceleration is steady.

@@ -254,10 +254,15 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
                     "never move freely; lower it or raise run.end_time",
                     s.release_time_si, v.real("run.end_time")));
   s.hold_ramp_time_si = v.real("particle.hold_ramp_time");
-  if (s.hold_ramp_time_si > s.release_time_si)
+  if (s.motion == body::MotionKind::towed && s.hold_ramp_time_si > v.real("run.end_time"))
+    throw InputError(fmt::format(
+        "particle.hold_ramp_time: {:g} s is longer than the run (run.end_time = {:g} s); allowed for a towed body: "
+        "0 to run.end_time",
+        s.hold_ramp_time_si, v.real("run.end_time")));
+  if (s.motion != body::MotionKind::towed && s.hold_ramp_time_si > s.release_time_si)
     throw InputError(fmt::format(
         "particle.hold_ramp_time: {:g} s is longer than the hold (particle.release_time = {:g} s); allowed: 0 to "
-        "particle.release_time",
+        "particle.release_time (towed bodies: 0 to run.end_time)",
         s.hold_ramp_time_si, s.release_time_si));
   if (s.motion == body::MotionKind::fixed) {
     s.initial.velocity_si.setZero();

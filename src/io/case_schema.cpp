@@ -102,8 +102,9 @@ std::vector<KeySpec> declare() {
            "free bodies: held at the initial velocity and angular velocity until this time while the flow around "
            "them develops, then free (0: free from the start)"),
       real("particle.hold_ramp_time", Value(0.0), "s", non_negative(),
-           "free bodies held before their release: the held velocities grow linearly from rest to the initial "
-           "ones over this time, at most particle.release_time (0: the body starts at them)"),
+           "free bodies held before their release, and towed bodies: the held (towing) velocities grow linearly "
+           "from rest to the given ones over this time, at most particle.release_time (towed: run.end_time; 0: the "
+           "body starts at them)"),
       // [domain]
       vector3("domain.size", std::nullopt, "m", positive(), "extent of the domain from the origin"),
       choice("domain.walls.x", "no-slip", walls, "boundary of the two faces normal to x"),

@@ -379,6 +379,13 @@ TEST_F(MalformedInput, HoldRampLongerThanTheHold) {
                      {"particle.hold_ramp_time", "particle.release_time", "0 to"});
 }
 
+TEST_F(MalformedInput, TowingRampLongerThanTheRun) {
+  expect_refused_set(
+      "--set run.end_time=0.1 --set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.01]' "
+      "--set particle.hold_ramp_time=0.2",
+      {"particle.hold_ramp_time", "run.end_time", "towed"});
+}
+
 TEST_F(MalformedInput, NegativeReleaseTime) {
   expect_refused_set("--set particle.release_time=-0.01", {"release_time", "must be >= 0"});
 }

@@ -125,6 +125,41 @@ TEST(Release, ARampedHoldStartsFromRestReachesTheInitialVelocityAndSparesTheFlui
   EXPECT_LT(gentle, 0.25 * pulse) << "impulsive " << pulse << ", ramped " << gentle;
 }
 
+// A towed body ramped up (particle.hold_ramp_time) follows the ramp, then keeps its towing
+// velocity; its position is the sum of the velocities at the starts of the steps (a towed body
+// moves over a step with the velocity it had at its start), and it spares the fluid the pulse as
+// the held free body does (the bound of the test above, for the same reason).
+TEST(Release, ATowedBodyRampsUpThenKeepsItsTowingVelocity) {
+  constexpr int kRampSteps = 100;
+  SimulationSetup setup = sphere_moving_down(body::MotionKind::towed);
+  const double dt = Simulation(setup).units().dt_si();
+  Simulation impulsive(setup);
+  setup.hold_ramp_time_si = kRampSteps * dt;
+  Simulation ramped(setup);
+
+  const Eigen::Vector3d v0 = setup.initial.velocity_si, x0 = setup.initial.position_si;
+  EXPECT_EQ(ramped.body().state().velocity_si, Eigen::Vector3d::Zero());
+  for (int n = 1; n <= 2 * kRampSteps; ++n) {
+    ramped.step();
+    const Eigen::Vector3d expected = std::min(1.0, n / static_cast<double>(kRampSteps)) * v0;
+    ASSERT_LE((ramped.body().state().velocity_si - expected).norm(), 1e-12 * v0.norm()) << n;
+    // Steps 0 .. n-1 started at k / 100 of v0 (k <= 100), then at v0.
+    const int ramp_part = std::min(n, kRampSteps + 1);
+    const double travelled_steps =
+        0.5 * (ramp_part - 1) * ramp_part / static_cast<double>(kRampSteps) + (n - ramp_part);
+    const Eigen::Vector3d position = x0 + travelled_steps * dt * v0;
+    ASSERT_LE((ramped.body().state().position_si - position).norm(), 1e-12 * x0.norm()) << n;
+  }
+  EXPECT_FALSE(ramped.ramping());
+
+  setup.hold_ramp_time_si = kRampSteps * dt;
+  Simulation ramped_again(setup);
+  const double pulse = largest_density_deviation(impulsive, kRampSteps / 2);
+  const double gentle = largest_density_deviation(ramped_again, kRampSteps / 2);
+  EXPECT_GT(pulse, 0.01);
+  EXPECT_LT(gentle, 0.25 * pulse) << "impulsive " << pulse << ", ramped " << gentle;
+}
+
 TEST(Release, WithoutAReleaseTimeAFreeBodyIsNeverHeld) {
   const Simulation sim(sphere_moving_down(body::MotionKind::free));
   EXPECT_EQ(sim.plan().release_step, 0);

@@ -41,6 +41,9 @@ struct TowedSphereOptions {
   double ahead_diameters = 5.0;    ///< fluid ahead of the sphere's centre
   double behind_diameters = 11.0;  ///< wake room behind it
   double travel_diameters = 30.0;  ///< run length
+  /// The towing speed rises linearly from rest over the time it takes to travel this many
+  /// diameters at full speed (SimulationSetup::hold_ramp_time_si); 0: an impulsive start.
+  double ramp_diameters = 0.0;
   /// Start off the window's axis by this many cells along x and y: the symmetry breaking of the
   /// wakes above Re of about 210 needs a seed (zero: mirror-symmetric to round-off).
   Eigen::Vector2d offset_cells = Eigen::Vector2d::Zero();
@@ -89,6 +92,7 @@ inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
   s.tau = 0.5 + 3.0 * nu;  // dx = dt = 1
   s.max_lattice_velocity = o.lattice_speed * 1.01;
   s.end_time_si = o.travel_diameters * d / o.lattice_speed;
+  s.hold_ramp_time_si = o.ramp_diameters * d / o.lattice_speed;
 
   Simulation sim(s);
   const double dynamic_pressure_area = 0.5 * o.lattice_speed * o.lattice_speed * std::numbers::pi * d * d / 4.0;

@@ -73,6 +73,9 @@ TEST(TowedSphereValidation, Re300) {
   o.coupling = coupling_from_environment();
   o.wall_rule = wall_rule_from_environment();
   o.collision = settle::lbm::CollisionKind::recursive_regularized;
+  if (const char* c = std::getenv("SETTLE_TOWED_COLLISION"))
+    o.collision = settle::lbm::parse_collision(c, "SETTLE_TOWED_COLLISION");
+  if (const char* r = std::getenv("SETTLE_TOWED_RAMP")) o.ramp_diameters = std::atof(r);
   o.offset_cells = Eigen::Vector2d(0.3, 0.2);
   const TowedSphereResult r = run_towed_sphere_printed(o);
   // A drift of 1% (a third of the 3% budget) between the last two fifths (8 d of travel each,
