@@ -2,7 +2,9 @@
 // 100 and 300 against the standard drag curve (towed_sphere.hpp), and its grid convergence at
 // Re = 20.
 // Environment: SETTLE_TOWED_CELLS (cells per diameter, default 16), SETTLE_TOWED_COUPLING,
-// SETTLE_TOWED_WALL_RULE (the momentum exchange's numerics.wall_rule, default bouzidi).
+// SETTLE_TOWED_WALL_RULE (the momentum exchange's numerics.wall_rule, default bouzidi),
+// SETTLE_TOWED_COLLISION (numerics.collision, default trt), SETTLE_TOWED_RAMP (the towing speed
+// ramped up from rest over this many diameters of travel, default 0: an impulsive start).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +29,16 @@ settle::coupling::CouplingKind coupling_from_environment() {
                : settle::coupling::CouplingKind::immersed_boundary;
 }
 
+settle::lbm::CollisionKind collision_from_environment() {
+  const char* value = std::getenv("SETTLE_TOWED_COLLISION");
+  return value ? settle::lbm::parse_collision(value, "SETTLE_TOWED_COLLISION") : settle::lbm::CollisionKind::trt;
+}
+
+double ramp_from_environment() {
+  const char* value = std::getenv("SETTLE_TOWED_RAMP");
+  return value ? std::atof(value) : 0.0;
+}
+
 settle::lbm::WallRule wall_rule_from_environment() {
   const char* value = std::getenv("SETTLE_TOWED_WALL_RULE");
   return value ? settle::lbm::parse_wall_rule(value, "SETTLE_TOWED_WALL_RULE") : settle::lbm::WallRule::bouzidi;
@@ -39,6 +51,8 @@ void check(double reynolds, double travel_diameters) {
   o.cells_per_diameter = resolution_from_environment(16.0);
   o.coupling = coupling_from_environment();
   o.wall_rule = wall_rule_from_environment();
+  o.collision = collision_from_environment();
+  o.ramp_diameters = ramp_from_environment();
   const TowedSphereResult r = run_towed_sphere_printed(o);
   // Start-up transient over: the mean drag of the last fifth of the travel differs from the fifth
   // before by less than a tenth of the 4% budget.
@@ -59,8 +73,8 @@ TEST(TowedSphereValidation, Re100) { check(100.0, 20.0); }
 // Above Re of about 210 a sphere's wake turns oblique, above about 275 it sheds (Johnson and Patel
 // 1999, J. Fluid Mech. 378, 19): the sphere starts 0.3 and 0.2 cells off the window's axis to seed
 // the symmetry breaking, as cases/fixed_sphere_stream.toml does, and travels 40 diameters (the
-// fixed sphere's lift took 20-30 d/U to grow, docs/validation.md). The recursive regularised
-// operator, as that case: tau is 0.506 at 16 cells. Criteria of the issue for Re = 300: C_D within
+// fixed sphere's lift took 20-30 d/U to grow, docs/validation.md). The default operator (TRT) at
+// tau 0.506 (16 cells) runs the impulsive start. Criteria of the issue for Re = 300: C_D within
 // 3% of the standard curve at 16 cells; and the wake must break its symmetry: a lateral force above
 // 1% of the drag (Johnson and Patel's C_L / C_D at Re = 300 is 0.069 / 0.656 = 0.11; an
 // axisymmetric wake gives at most 1e-7 of the drag: 1e-14 with the linear wall rule and 6e-8 with
@@ -72,10 +86,8 @@ TEST(TowedSphereValidation, Re300) {
   o.cells_per_diameter = resolution_from_environment(16.0);
   o.coupling = coupling_from_environment();
   o.wall_rule = wall_rule_from_environment();
-  o.collision = settle::lbm::CollisionKind::recursive_regularized;
-  if (const char* c = std::getenv("SETTLE_TOWED_COLLISION"))
-    o.collision = settle::lbm::parse_collision(c, "SETTLE_TOWED_COLLISION");
-  if (const char* r = std::getenv("SETTLE_TOWED_RAMP")) o.ramp_diameters = std::atof(r);
+  o.collision = collision_from_environment();
+  o.ramp_diameters = ramp_from_environment();
   o.offset_cells = Eigen::Vector2d(0.3, 0.2);
   const TowedSphereResult r = run_towed_sphere_printed(o);
   // A drift of 1% (a third of the 3% budget) between the last two fifths (8 d of travel each,
