@@ -196,8 +196,8 @@ Drift mean_drift(const std::vector<double>& t, const std::vector<Eigen::Vector3d
 }
 
 // The azimuth of an oblique path and its turning between the first and last quarters of the
-// window (a steady oblique path in a bounded domain may turn towards where the walls are
-// farthest; docs/analysis.md).
+// window: an oblique path has no preferred azimuth in unbounded fluid, so its plane can drift
+// slowly (docs/analysis.md).
 void drift_direction(const WindowSeries& w, const VerticalFrame& frame, double oblique_angle_deg, Analysis& a) {
   const Drift whole = mean_drift(w.t, w.velocity, frame, oblique_angle_deg);
   if (!whole.oblique) return;
