@@ -152,7 +152,6 @@ TEST(Release, ATowedBodyRampsUpThenKeepsItsTowingVelocity) {
   }
   EXPECT_FALSE(ramped.ramping());
 
-  setup.hold_ramp_time_si = kRampSteps * dt;
   Simulation ramped_again(setup);
   const double pulse = largest_density_deviation(impulsive, kRampSteps / 2);
   const double gentle = largest_density_deviation(ramped_again, kRampSteps / 2);
