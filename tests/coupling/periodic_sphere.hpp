@@ -59,6 +59,7 @@ struct PeriodicSphereOptions {
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   CouplingKind coupling = CouplingKind::immersed_boundary;
   lbm::WallRule wall_rule = lbm::WallRule::bouzidi;
+  lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   std::int64_t max_steps = 20000;
   double steady_tolerance = 1e-6;  ///< relative change of K per check interval to stop
 };
@@ -89,6 +90,7 @@ inline SimulationSetup periodic_sphere_setup(const PeriodicSphereOptions& o) {
   s.kernel = o.kernel;
   s.coupling = o.coupling;
   s.wall_rule = o.wall_rule;
+  s.lattice = o.lattice;
   s.end_time_si = 1.0;
   return s;
 }
@@ -198,9 +200,11 @@ inline BoxExtrapolation extrapolate_box(const RotatingSphereResult& small_box, c
 
 /// run_rotating_sphere at a resolution and box size, steady to 1e-5, with its figures printed.
 inline RotatingSphereResult run_rotating_sphere_printed(double cells_per_diameter, int box_cells,
-                                                        CouplingKind coupling = CouplingKind::immersed_boundary) {
+                                                        CouplingKind coupling = CouplingKind::immersed_boundary,
+                                                        lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19) {
   PeriodicSphereOptions o;
   o.coupling = coupling;
+  o.lattice = lattice;
   o.cells_per_diameter = cells_per_diameter;
   o.box_cells = box_cells;
   o.steady_tolerance = 1e-5;
