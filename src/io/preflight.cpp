@@ -242,8 +242,9 @@ std::optional<std::string> cell_reynolds_advice(const coupling::SimulationSetup&
 
 // The covered cells' torque holds a free sphere's spin in check with the momentum exchange on
 // D3Q19 (Uhlmann and Dusek's cases A and B); on D3Q27 case C's sphere spun up to omega d / u_g =
-// 0.21 and drifted 14 degrees from the vertical where D3Q19 gave 0.05 and 5.8 (docs/coupling.md,
-// Known limits). An advisory: one case, the cause not found.
+// 0.21 and drifted 14 degrees from the vertical where D3Q19 gave 0.05 and 5.8, at 16 cells too
+// (docs/coupling.md, Known limits). An advisory: the spin's lift drives it, the cause of the spin
+// is not found.
 std::optional<std::string> free_body_lattice_advice(const coupling::SimulationSetup& s) {
   if (s.motion != body::MotionKind::free || s.coupling != coupling::CouplingKind::momentum_exchange ||
       s.lattice != lbm::LatticeKind::D3Q27)
