@@ -3,14 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include <fmt/core.h>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 #include "analysis/regime_evidence.hpp"
 #include "body/cylinder.hpp"
 #include "body/mass_properties.hpp"
-#include "body/projected_area.hpp"
 #include "body/shape.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
@@ -146,18 +148,16 @@ WindowSeries window_of(const SettlingSeries& s, double start_si) {
   return w;
 }
 
-// Unit vectors down (along g) and two horizontal ones completing a right-handed frame.
+// The unit vector down (along g).
 struct VerticalFrame {
-  Eigen::Vector3d down, h1, h2;
+  Eigen::Vector3d down;
 };
 
 VerticalFrame vertical_frame(const Eigen::Vector3d& gravity_si) {
   const double g = gravity_si.norm();
   if (!(g > 0.0) || !std::isfinite(g))
     throw InputError("fluid.gravity: the settling analysis needs a finite, non-zero gravity vector");
-  const Eigen::Vector3d down = gravity_si / g;
-  const auto [h1, h2] = body::orthonormal_complement(down);
-  return {down, h1, h2};
+  return {gravity_si / g};
 }
 
 // ------------------------------------------------------------------ groups of observables
@@ -284,12 +284,64 @@ void drag(const WindowSeries& w, const ParticleProperties& p, Analysis& a) {
     a.drag_coefficient_projected_area = a.drag_coefficient * (kPi * d * d / 4.0) / *a.projected_area_si;
 }
 
-void lateral_motion(const WindowSeries& w, const VerticalFrame& frame, Analysis& a) {
+// Degree of the polynomial in time an oblique drift's azimuth is followed with: enough for a plane
+// turning from one azimuth to another (the S-shaped turn of Uhlmann and Dusek's case C towards its
+// window's diagonal), too low to follow an oscillation of the two or more periods a periodic regime
+// needs in the window.
+constexpr Eigen::Index kDriftAzimuthDegree = 3;
+
+// Least-squares polynomial of degree kDriftAzimuthDegree in time through y, evaluated at t.
+std::vector<double> polynomial_fit(const std::vector<double>& t, const std::vector<double>& y) {
+  const double mid = 0.5 * (t.front() + t.back()), half = 0.5 * (t.back() - t.front());
+  const auto n = static_cast<Eigen::Index>(t.size());
+  Eigen::MatrixXd powers(n, kDriftAzimuthDegree + 1);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index k = 0; k <= kDriftAzimuthDegree; ++k)
+      powers(i, k) = std::pow((t[static_cast<std::size_t>(i)] - mid) / half, static_cast<double>(k));
+  const Eigen::VectorXd fit =
+      powers * powers.colPivHouseholderQr().solve(Eigen::Map<const Eigen::VectorXd>(y.data(), n));
+  return {fit.data(), fit.data() + n};
+}
+
+// The direction of an oblique drift at each sample: the azimuth of the horizontal velocity,
+// smoothed by polynomial_fit. None unless the path is oblique and its horizontal velocity stays
+// within 90 degrees of that direction (never reverses): an oscillation about an oblique path that
+// reverses the lateral velocity is judged in fixed axes.
+std::optional<std::vector<double>> drift_azimuths(const WindowSeries& w, const VerticalFrame& frame,
+                                                  double oblique_angle_deg) {
+  if (w.t.size() <= static_cast<std::size_t>(kDriftAzimuthDegree) + 1 || !(w.t.back() > w.t.front()) ||
+      !mean_drift(w.t, w.velocity, frame, oblique_angle_deg).oblique)
+    return std::nullopt;
+  const auto [east, north] = azimuth_axes(frame);
+  std::vector<double> azimuth;
+  for (const auto& u : w.velocity) azimuth.push_back(std::atan2(u.dot(north), u.dot(east)));
+  azimuth = unwrap(std::move(azimuth));
+  std::vector<double> smooth = polynomial_fit(w.t, azimuth);
+  for (std::size_t i = 0; i < azimuth.size(); ++i)
+    if (!(std::cos(azimuth[i] - smooth[i]) > 0.0)) return std::nullopt;
+  return smooth;
+}
+
+// The horizontal velocity in axes that follow an oblique path's drift (drift_azimuths; fixed axes
+// otherwise): a steady oblique path whose plane turns slowly then has no fluctuation, and its turn
+// does not read as a lateral oscillation.
+std::pair<std::vector<double>, std::vector<double>> horizontal_velocity_in_drift_axes(const WindowSeries& w,
+                                                                                      const VerticalFrame& frame,
+                                                                                      double oblique_angle_deg) {
+  const auto [east, north] = azimuth_axes(frame);
+  const std::vector<double> turn =
+      drift_azimuths(w, frame, oblique_angle_deg).value_or(std::vector<double>(w.t.size(), 0.0));
   std::vector<double> u1, u2;
-  for (const auto& u : w.velocity) {
-    u1.push_back(u.dot(frame.h1));
-    u2.push_back(u.dot(frame.h2));
+  for (std::size_t i = 0; i < w.t.size(); ++i) {
+    const double e = w.velocity[i].dot(east), n = w.velocity[i].dot(north);
+    u1.push_back(std::cos(turn[i]) * e + std::sin(turn[i]) * n);
+    u2.push_back(-std::sin(turn[i]) * e + std::cos(turn[i]) * n);
   }
+  return {u1, u2};
+}
+
+void lateral_motion(const WindowSeries& w, const VerticalFrame& frame, double oblique_angle_deg, Analysis& a) {
+  auto [u1, u2] = horizontal_velocity_in_drift_axes(w, frame, oblique_angle_deg);
   u1 = subtract_mean(w.t, std::move(u1));
   u2 = subtract_mean(w.t, std::move(u2));
   std::vector<Eigen::Matrix2d> outer;
@@ -443,7 +495,7 @@ void judge_motion(const WindowSeries& w, const VerticalFrame& frame, const Parti
                   const RegimeThresholds& th, Analysis& a) {
   a.regime_window_start_si = w.t.front();
   a.regime_window_samples = w.t.size();
-  lateral_motion(w, frame, a);
+  lateral_motion(w, frame, th.oblique_path_angle_deg, a);
   if (a.axis.kind != AxisKind::none) {
     const std::vector<Eigen::Vector3d> e = axis_directions(w, a.axis.axis_b);
     tilt(w, frame, e, a);

@@ -62,6 +62,58 @@ TEST(Regimes, ObliqueOscillatingSphere) {
   EXPECT_EQ(a.regime.regime, Regime::oblique_oscillating) << a.regime.reason;
 }
 
+// An oblique path has no preferred azimuth, so its plane may turn slowly (Uhlmann and Dusek's
+// case C at 32 cells turns from one azimuth to another, fastest half-way). The lateral fluctuation
+// is measured in axes that follow the drift's azimuth smoothed by a cubic in time, so a steady
+// drift of 10% of the speed whose plane turns by 90 degrees along a cubic (slowly, then faster,
+// then slowly) has no fluctuation to round-off; in fixed axes its chord would read as a lateral
+// oscillation of several percent of the speed. 1e-6 of the drift is far above round-off and far
+// below the 1% steadiness threshold.
+TEST(Regimes, SteadyObliqueSphereWhosePlaneTurns) {
+  const double drift = 0.01, turn = 0.5 * kPi, end = 6.0;
+  Motion m;
+  m.velocity = [=](double t) {
+    const double s = t / end, azimuth = turn * s * s * (3.0 - 2.0 * s);
+    return Eigen::Vector3d(drift * std::cos(azimuth), drift * std::sin(azimuth), -kSpeed);
+  };
+  const Analysis a = analyse_motion(m, settle::test::sphere_in_water(1e-3), end);
+  EXPECT_EQ(a.regime.regime, Regime::steady_oblique) << a.regime.reason;
+  EXPECT_LT(a.lateral_amplitude_si, 1e-6 * drift);
+}
+
+// An oscillation that reverses the lateral velocity about a slightly oblique mean path (drift 3%,
+// swing 20% of the speed) has no drift direction to follow: it is judged in fixed axes, a zigzag
+// of amplitude 0.02 m/s. The window holds c = 12 or more periods, not whole, so sqrt(2) x rms is
+// within 1/(4 pi c) + 1/(pi c)^2 of the amplitude (ZigzagDiskSwingsLittle), under 3%.
+TEST(Regimes, ZigzagAboutAnObliquePathIsJudgedInFixedAxes) {
+  const double swing = 0.02;
+  Motion m;
+  m.velocity = [=](double t) { return Eigen::Vector3d(0.003 + swing * std::sin(2.0 * kPi * 3.0 * t), 0.0, -kSpeed); };
+  const Analysis a = analyse_motion(m, settle::test::sphere_in_water(1e-3));
+  EXPECT_GE(a.path_angle_deg, 1.0);  // oblique by the regime's measure
+  EXPECT_EQ(a.regime.regime, Regime::zigzag) << a.regime.reason;
+  EXPECT_NEAR(a.lateral_amplitude_si, swing, 0.03 * swing);
+}
+
+// The same turning drift with a 3% oscillation at 4 Hz along it: oblique_oscillating at 4 Hz. In
+// axes turning with the drift the oscillation is a pure tone along one axis; the turn rate is
+// measured from quarter means, which the oscillation biases by about (0.3 / (2 pi f T_q)) / T_q
+// (0.3 the oscillation's share of the drift, T_q a quarter of the window), leaving a residual
+// turn of a few milliradians: its share of the amplitude is well under 1%, the tolerance below.
+TEST(Regimes, ObliqueOscillatingSphereWhosePlaneTurns) {
+  const double rate = 25.0 * kDegree, frequency_hz = 4.0, oscillation = 0.003;
+  Motion m;
+  m.velocity = [=](double t) {
+    const double size = 0.01 + oscillation * std::sin(2.0 * kPi * frequency_hz * t);
+    return Eigen::Vector3d(size * std::cos(rate * t), size * std::sin(rate * t), -kSpeed);
+  };
+  const Analysis a = analyse_motion(m, settle::test::sphere_in_water(1e-3));
+  EXPECT_EQ(a.regime.regime, Regime::oblique_oscillating) << a.regime.reason;
+  EXPECT_NEAR(a.lateral_amplitude_si, oscillation, 0.01 * oscillation);
+  ASSERT_TRUE(a.lateral_frequency_hz.has_value());
+  EXPECT_NEAR(*a.lateral_frequency_hz, frequency_hz, 0.01 * frequency_hz);
+}
+
 TEST(Regimes, ZigzagSphereHasNoAxis) {
   Motion m;
   m.velocity = [](double t) { return Eigen::Vector3d(0.0, 0.02 * std::sin(2.0 * kPi * 3.0 * t), -kSpeed); };
