@@ -95,11 +95,11 @@ TEST(Regimes, ZigzagAboutAnObliquePathIsJudgedInFixedAxes) {
   EXPECT_NEAR(a.lateral_amplitude_si, swing, 0.03 * swing);
 }
 
-// The same turning drift with a 3% oscillation at 4 Hz along it: oblique_oscillating at 4 Hz. In
-// axes turning with the drift the oscillation is a pure tone along one axis; the turn rate is
-// measured from quarter means, which the oscillation biases by about (0.3 / (2 pi f T_q)) / T_q
-// (0.3 the oscillation's share of the drift, T_q a quarter of the window), leaving a residual
-// turn of a few milliradians: its share of the amplitude is well under 1%, the tolerance below.
+// A drift of 10% of the speed turning uniformly at 25 deg/s with a 3% oscillation at 4 Hz along
+// it: oblique_oscillating at 4 Hz. The oscillation changes the drift's size, not its azimuth, so
+// the cubic that the drift axes follow is the azimuth itself and the oscillation is a pure tone
+// along one axis; amplitude and frequency are then off only by the window's partial periods, well
+// under the 1% tolerance.
 TEST(Regimes, ObliqueOscillatingSphereWhosePlaneTurns) {
   const double rate = 25.0 * kDegree, frequency_hz = 4.0, oscillation = 0.003;
   Motion m;
