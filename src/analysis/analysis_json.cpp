@@ -64,6 +64,9 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   terminal["detected_at"] = a.terminal.reached ? json(a.terminal.detected_at_si) : json(nullptr);
   terminal["relative_change"] = a.terminal.reached ? json(a.terminal.relative_change) : json(nullptr);
   terminal["time_to_95_percent"] = optional_json(a.time_to_95_percent_si);
+  terminal["time_to_95_percent_fit"] = optional_json(a.fitted_time_to_95_percent_si);
+  terminal["terminal_velocity_fit"] = optional_json(a.fitted_terminal_velocity_si);
+  terminal["fit_rms_residual"] = optional_json(a.fit_rms_residual_si);
   terminal["response_time"] = a.criteria.response_time_si;
   terminal["window"] = a.criteria.window_si();
   terminal["window_response_times"] = a.criteria.window_response_times;

@@ -221,7 +221,7 @@ void drift_direction(const WindowSeries& w, const VerticalFrame& frame, double o
 // Mordant and Pinton 2000 (Eur. Phys. J. B 18, 343, doi:10.1007/s100510070066) characterise a
 // sphere's transient by t_95, the time to 95% of the terminal velocity, from a fit
 // u = U_t (1 - exp(-3 t / t_95)); here it is the first crossing of 0.95 U_t in the samples, which
-// equals the fit's t_95 for an exactly exponential approach.
+// equals the fit's t_95 for an exactly exponential approach (the fit itself: below).
 void time_to_95_percent(const SettlingSeries& series, const VerticalFrame& frame, Analysis& a) {
   if (!a.terminal.reached || !(a.vertical_velocity_si > 0.0)) return;
   const double target = 0.95 * a.vertical_velocity_si;
@@ -237,6 +237,65 @@ void time_to_95_percent(const SettlingSeries& series, const VerticalFrame& frame
     }
     previous = u;
   }
+}
+
+// The least-squares U of u = U phi for a given T, phi = 1 - exp(-3 t / T), and the sum of squared
+// residuals it leaves.
+struct ExponentialFit {
+  double speed = 0.0, squared_residual = 0.0;
+};
+
+ExponentialFit exponential_fit(const std::vector<double>& t, const std::vector<double>& u, double time_to_95) {
+  const auto phi = [&](std::size_t k) { return -std::expm1(-3.0 * t[k] / time_to_95); };
+  double phi_u = 0.0, phi_phi = 0.0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    phi_u += phi(k) * u[k];
+    phi_phi += phi(k) * phi(k);
+  }
+  ExponentialFit fit;
+  fit.speed = phi_phi > 0.0 ? phi_u / phi_phi : 0.0;
+  for (std::size_t k = 0; k < t.size(); ++k) fit.squared_residual += std::pow(u[k] - fit.speed * phi(k), 2);
+  return fit;
+}
+
+// The minimum of f over [lo, hi]: a scan of a uniform grid, then golden-section search between
+// the best grid point's neighbours (f need only be unimodal near its minimum).
+template <class F>
+double minimum_on_interval(const F& f, double lo, double hi) {
+  constexpr int kGridPoints = 200;
+  const double step = (hi - lo) / (kGridPoints - 1);
+  int best = 0;
+  for (int i = 1; i < kGridPoints; ++i)
+    if (f(lo + i * step) < f(lo + best * step)) best = i;
+  double left = lo + std::max(best - 1, 0) * step, right = lo + std::min(best + 1, kGridPoints - 1) * step;
+  const double shrink = 0.5 * (std::sqrt(5.0) - 1.0);
+  for (int iteration = 0; iteration < 80; ++iteration) {
+    const double x1 = right - shrink * (right - left), x2 = left + shrink * (right - left);
+    if (f(x1) < f(x2)) {
+      right = x2;
+    } else {
+      left = x1;
+    }
+  }
+  return 0.5 * (left + right);
+}
+
+// Mordant and Pinton's fit (above) of the whole record: U solved in closed form for each T, T
+// searched in log T from the sampling interval to the record's length.
+void fitted_time_to_95_percent(const SettlingSeries& series, const VerticalFrame& frame, Analysis& a) {
+  if (!a.terminal.reached || !(a.vertical_velocity_si > 0.0) || series.size() < 3) return;
+  std::vector<double> t(series.size()), u(series.size());
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    t[k] = series.t_si[k] - series.t_si.front();
+    u[k] = series.velocity_si[k].dot(frame.down);
+  }
+  if (std::abs(u.front()) > 0.05 * a.vertical_velocity_si) return;
+  const auto cost = [&](double log_t95) { return exponential_fit(t, u, std::exp(log_t95)).squared_residual; };
+  const double time_to_95 = std::exp(minimum_on_interval(cost, std::log(t[1]), std::log(t.back())));
+  const ExponentialFit fit = exponential_fit(t, u, time_to_95);
+  a.fitted_time_to_95_percent_si = time_to_95;
+  a.fitted_terminal_velocity_si = fit.speed;
+  a.fit_rms_residual_si = std::sqrt(fit.squared_residual / static_cast<double>(t.size()));
 }
 
 void dimensionless_groups(const ParticleProperties& p, Analysis& a) {
@@ -577,6 +636,7 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   velocity_and_path(w, frame, a);
   drift_direction(w, frame, options.thresholds.oblique_path_angle_deg, a);
   time_to_95_percent(series, frame, a);
+  fitted_time_to_95_percent(series, frame, a);
   dimensionless_groups(properties, a);
   drag(w, properties, a);
   a.mean_body_rotation_rate_si = time_mean(w.t, w.omega_b);

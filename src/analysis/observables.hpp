@@ -130,6 +130,14 @@ struct Analysis {
   /// vertical velocity (linear interpolation between samples): Mordant and Pinton's t_95. Empty
   /// unless the terminal state was reached, the body sinks, and the first sample is below 95%.
   std::optional<double> time_to_95_percent_si;
+  /// Mordant and Pinton's own t_95: the T of u = U (1 - exp(-3 t / T)) fitted by least squares
+  /// (U and T both free) to the velocity along g over the whole record, from its first sample.
+  /// It differs from time_to_95_percent_si when the approach is not a single exponential (a bead
+  /// that overshoots its terminal speed). Empty unless the terminal state was reached, the body
+  /// sinks and starts from rest (along g below 5% of the terminal vertical velocity).
+  std::optional<double> fitted_time_to_95_percent_si;
+  std::optional<double> fitted_terminal_velocity_si;  ///< the fit's U, m/s
+  std::optional<double> fit_rms_residual_si;          ///< rms of u - fit over the record, m/s
 
   // Dimensionless groups.
   double reynolds = 0.0;                        ///< |U| d_eq / nu

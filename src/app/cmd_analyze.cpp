@@ -123,6 +123,11 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
   if (a.time_to_95_percent_si)
     out << fmt::format("  approach         95% of the terminal vertical velocity at t = {:.4g} s after the start\n",
                        *a.time_to_95_percent_si);
+  if (a.fitted_time_to_95_percent_si)
+    out << fmt::format(
+        "  exponential fit  u = {:.5g} m/s (1 - exp(-3 t / {:.4g} s)) over the whole record, rms residual {:.3g} "
+        "m/s\n",
+        *a.fitted_terminal_velocity_si, *a.fitted_time_to_95_percent_si, *a.fit_rms_residual_si);
   out << fmt::format("  averaged over    t = {:.4g} .. {:.4g} s ({} samples, {})\n", a.window_start_si, a.window_end_si,
                      a.window_samples, a.averaged_over_terminal_window ? "terminal window" : "second half of the run");
   out << fmt::format("  velocity         |U| = {:.5g} m/s, along g {:.5g} m/s, path {:.3g} deg from vertical\n",
