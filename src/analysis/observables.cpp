@@ -265,8 +265,13 @@ double minimum_on_interval(const F& f, double lo, double hi) {
   constexpr int kGridPoints = 200;
   const double step = (hi - lo) / (kGridPoints - 1);
   int best = 0;
-  for (int i = 1; i < kGridPoints; ++i)
-    if (f(lo + i * step) < f(lo + best * step)) best = i;
+  double best_value = f(lo);
+  for (int i = 1; i < kGridPoints; ++i) {
+    if (const double value = f(lo + i * step); value < best_value) {
+      best = i;
+      best_value = value;
+    }
+  }
   double left = lo + std::max(best - 1, 0) * step, right = lo + std::min(best + 1, kGridPoints - 1) * step;
   const double shrink = 0.5 * (std::sqrt(5.0) - 1.0);
   for (int iteration = 0; iteration < 80; ++iteration) {
