@@ -56,6 +56,12 @@ void RigidBody::enforce_motion_kind() {
     state_.velocity_si.setZero();
     state_.angular_velocity_b_si.setZero();
   }
+  if (rotation_locked_ && kind_ == MotionKind::free) state_.angular_velocity_b_si.setZero();
+}
+
+void RigidBody::lock_rotation() {
+  rotation_locked_ = true;
+  enforce_motion_kind();
 }
 
 Eigen::Vector3d RigidBody::net_weight_si() const {
@@ -104,6 +110,7 @@ void RigidBody::correct(double dt_si, const Wrench& external_n, const VirtualIne
   const Eigen::Vector3d velocity_start = state_.velocity_si;
   state_.velocity_si = velocity_start + dt_si * acceleration;
   state_.position_si += 0.5 * dt_si * (velocity_start + state_.velocity_si);
+  if (rotation_locked_) return;
 
   // Rotation: the torque was measured with the body at the predicted pose, so that pose's
   // matrix brings it into the body frame; it is held constant there over the step.
@@ -139,9 +146,12 @@ void RigidBody::advance(double t_si, double dt_si, const WrenchFunction& externa
     const RigidBodyState stage = unpack(y, set);
     const Wrench external = external_n ? external_n(t, stage) : Wrench{};
     const Eigen::Vector3d torque_b = stage.attitude.inertial_to_body() * external.torque_si;
+    // Locked, omega_b stays zero, and with it the attitude's rates.
+    const Eigen::Vector3d angular_acceleration_b =
+        rotation_locked_ ? Eigen::Vector3d::Zero()
+                         : attitude::angular_acceleration_b(inertia_, stage.angular_velocity_b_si, torque_b);
     Vector12d rate;
-    rate << stage.velocity_si, (external.force_si + weight) / mass,
-        attitude::angular_acceleration_b(inertia_, stage.angular_velocity_b_si, torque_b),
+    rate << stage.velocity_si, (external.force_si + weight) / mass, angular_acceleration_b,
         stage.attitude.angle_rates(stage.angular_velocity_b_si);
     return rate;
   };

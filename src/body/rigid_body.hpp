@@ -33,7 +33,8 @@
 //
 // Motion kinds: free (dynamics as above), towed (velocity and body angular velocity held at
 // their prescribed constant values: the position moves linearly, the attitude rotates at the
-// constant body rate; forces are ignored), fixed (nothing moves).
+// constant body rate; forces are ignored), fixed (nothing moves). A free body's rotation may be
+// locked (lock_rotation): it then translates by Newton's law and keeps its attitude.
 #include <functional>
 
 #include <Eigen/Core>
@@ -110,6 +111,12 @@ class RigidBody {
   [[nodiscard]] const MassProperties& mass_properties() const { return mass_properties_; }
   [[nodiscard]] const Environment& environment() const { return environment_; }
   [[nodiscard]] MotionKind motion_kind() const { return kind_; }
+  /// Locks a free body's rotation: from now on it keeps its attitude and a zero angular velocity,
+  /// Newton's law alone moves it, and the torques it is given are ignored. A control experiment
+  /// on what the body's rotation does in a path instability (particle.lock_rotation,
+  /// docs/rigid-body.md). Towed and fixed bodies follow their prescribed motion anyway.
+  void lock_rotation();
+  [[nodiscard]] bool rotation_locked() const { return rotation_locked_; }
   /// Number of Euler-set switches made so far (a diagnostic, not state).
   [[nodiscard]] long switch_count() const { return switch_count_; }
 
@@ -159,6 +166,7 @@ class RigidBody {
   Environment environment_;
   RigidBodyState state_;
   MotionKind kind_;
+  bool rotation_locked_ = false;
   long switch_count_ = 0;
 };
 

@@ -35,6 +35,9 @@ struct SimulationSetup {
   /// particle.hold_ramp_time), so that the fluid is not struck by a body that starts at speed; 0:
   /// an impulsive start.
   double hold_ramp_time_si = 0.0;
+  /// Free bodies: the attitude is held and only Newton's law moves the body (particle.lock_rotation;
+  /// body::RigidBody::lock_rotation).
+  bool rotation_locked = false;
 
   double fluid_density_si = 998.2;
   double dynamic_viscosity_si = 1.0e-3;

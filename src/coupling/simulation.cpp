@@ -120,6 +120,7 @@ Simulation::Simulation(SimulationSetup setup, parallel::Communicator& communicat
   body_ = std::make_unique<body::RigidBody>(shape.mass_properties(setup_.particle_density_si), environment,
                                             ramping() ? held_state_at(setup_, setup_.initial, 0.0) : setup_.initial,
                                             setup_.motion);
+  if (setup_.rotation_locked) body_->lock_rotation();
   if (setup_.motion == body::MotionKind::free) virtual_inertia_ = virtual_inertia_for(*body_, setup_.fluid_density_si);
   contact_ =
       start_wall_contact(setup_, plan_.units.dx_si(), plan_.units.dt_si(), derived_.cells, frame_.window_origin_si);

@@ -204,6 +204,22 @@ void read_open_faces(const CaseValues& v, coupling::SimulationSetup& s) {
   if (s.inflow) s.inflow_velocity_si = vector3(v, "domain.inflow_velocity");
 }
 
+// particle.lock_rotation: a free body that cannot turn; it starts and stays without spin.
+void read_rotation_lock(const CaseValues& v, coupling::SimulationSetup& s) {
+  s.rotation_locked = v.boolean("particle.lock_rotation");
+  if (!s.rotation_locked) return;
+  if (s.motion != body::MotionKind::free)
+    throw InputError(
+        "particle.lock_rotation: only for particle.motion = \"free\" (a towed or fixed body's rotation is "
+        "prescribed); remove it or set motion = \"free\"");
+  const Eigen::Vector3d omega = s.initial.angular_velocity_b_si;
+  if (!omega.isZero(0.0))
+    throw InputError(fmt::format(
+        "particle.lock_rotation: a body with its rotation locked cannot start spinning (particle.angular_velocity "
+        "= [{:g}, {:g}, {:g}] rad/s); set particle.angular_velocity = [0, 0, 0] or lock_rotation = false",
+        omega.x(), omega.y(), omega.z()));
+}
+
 }  // namespace
 
 coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::filesystem::path& base_directory,
@@ -268,6 +284,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
     s.initial.velocity_si.setZero();
     s.initial.angular_velocity_b_si.setZero();
   }
+  read_rotation_lock(v, s);
 
   s.cells_per_diameter = v.real("numerics.cells_per_diameter");
   s.lattice = lbm::parse_lattice(v.string("numerics.lattice"), "numerics.lattice");

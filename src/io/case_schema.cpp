@@ -105,6 +105,9 @@ std::vector<KeySpec> declare() {
            "free bodies held before their release, and towed bodies: the held (towing) velocities grow linearly "
            "from rest to the given ones over this time, at most particle.release_time (towed: run.end_time; 0: the "
            "body starts at them)"),
+      boolean("particle.lock_rotation", false,
+              "free bodies: the body keeps its initial attitude and only translates (its torque is measured, not "
+              "applied): a control for the part rotation plays in a path (docs/rigid-body.md)"),
       // [domain]
       vector3("domain.size", std::nullopt, "m", positive(), "extent of the domain from the origin"),
       choice("domain.walls.x", "no-slip", walls, "boundary of the two faces normal to x"),

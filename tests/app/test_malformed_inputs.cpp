@@ -386,6 +386,18 @@ TEST_F(MalformedInput, TowingRampLongerThanTheRun) {
       {"particle.hold_ramp_time", "run.end_time", "towed"});
 }
 
+TEST_F(MalformedInput, RotationLockOfATowedBody) {
+  expect_refused_set(
+      "--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -0.01]' "
+      "--set particle.lock_rotation=true",
+      {"particle.lock_rotation", "free"});
+}
+
+TEST_F(MalformedInput, RotationLockOfASpinningBody) {
+  expect_refused_set("--set particle.lock_rotation=true --set 'particle.angular_velocity=[0, 2, 0]'",
+                     {"particle.lock_rotation", "particle.angular_velocity", "[0, 2, 0]"});
+}
+
 TEST_F(MalformedInput, NegativeReleaseTime) {
   expect_refused_set("--set particle.release_time=-0.01", {"release_time", "must be >= 0"});
 }

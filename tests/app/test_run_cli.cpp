@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -84,6 +85,31 @@ TEST(RunCli, DefaultFreeSettlingCaseRunsAFewSteps) {
   // A particle heavier than water starts to sink: after 20 steps its velocity points down.
   const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
   EXPECT_GT(summary["terminal_vertical_velocity"].get<double>(), 0.0);
+  fs::remove_all(dir);
+}
+
+// particle.lock_rotation reaches the body: the default case's tilted spheroid sinks with its
+// attitude and a zero angular velocity in every row, while the fluid's torque on it (which turns
+// it when free) is measured and written.
+TEST(RunCli, ALockedBodySinksWithoutTurningWhileItsTorqueIsMeasured) {
+  const fs::path dir = scratch("locked");
+  const Result r = run_settle("-o " + dir.string() +
+                              " --set particle.lock_rotation=true --set run.end_time=0.005 --set run.output_interval=0"
+                              " --threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> header;
+  const auto rows = settle::test::read_rows(dir / "timeseries.csv", header);
+  ASSERT_GE(rows.size(), 10u);
+  double largest_torque = 0.0;
+  for (const auto& row : rows) {
+    for (const char* angle : {"psi", "theta", "gamma"})
+      EXPECT_EQ(row[settle::test::column(header, angle)], rows[0][settle::test::column(header, angle)]) << angle;
+    for (const char* rate : {"wx", "wy", "wz"}) EXPECT_EQ(row[settle::test::column(header, rate)], 0.0) << rate;
+    for (const char* torque : {"Tx", "Ty", "Tz"})
+      largest_torque = std::max(largest_torque, std::abs(row[settle::test::column(header, torque)]));
+  }
+  EXPECT_LT(rows.back()[settle::test::column(header, "uz")], 0.0);  // it sinks
+  EXPECT_GT(largest_torque, 0.0);
   fs::remove_all(dir);
 }
 

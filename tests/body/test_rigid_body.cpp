@@ -371,6 +371,45 @@ TEST(RigidBodyMotionKinds, FixedBodyDoesNotMove) {
   EXPECT_EQ(body.state().attitude.angles(), initial.attitude.angles());
 }
 
+// A free body with its rotation locked translates as Newton's law says and keeps its attitude,
+// whatever torque it is given; the same body unlocked would turn (so the check can fail).
+TEST(RigidBodyMotionKinds, ALockedFreeBodyTranslatesAndKeepsItsAttitude) {
+  ConstantForceCase c;
+  c.external.torque_si = Eigen::Vector3d(0.02, -0.05, 0.03);
+  const double dt = 0.01;
+  RigidBody by_corrector(c.properties, c.environment, c.initial);
+  RigidBody by_rk4(c.properties, c.environment, c.initial);
+  RigidBody unlocked(c.properties, c.environment, c.initial);
+  by_corrector.lock_rotation();
+  by_rk4.lock_rotation();
+  for (int i = 0; i < 100; ++i) {
+    by_corrector.correct(dt, c.external);
+    by_rk4.advance(i * dt, dt, [&](double, const RigidBodyState&) { return c.external; });
+    unlocked.correct(dt, c.external);
+  }
+  for (const RigidBody* body : {&by_corrector, &by_rk4}) {
+    // The translation is the constant-force case's, exact to rounding (as in its own tests).
+    EXPECT_LT((body->state().position_si - c.position(1.0)).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_LT((body->state().velocity_si - c.velocity(1.0)).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_EQ(body->state().attitude.angles(), c.initial.attitude.angles());
+    EXPECT_EQ(body->state().angular_velocity_b_si, Eigen::Vector3d::Zero());
+    EXPECT_TRUE(body->rotation_locked());
+  }
+  // Unlocked, the torque of |T| ~ 0.06 N m on inertias 0.1-0.3 kg m^2 spins it up to O(0.1) rad/s in 1 s.
+  EXPECT_GT(unlocked.state().angular_velocity_b_si.norm(), 0.1);
+  EXPECT_GT(max_abs_difference(unlocked.body_to_inertial(), c.initial.attitude.body_to_inertial()), 0.01);
+}
+
+TEST(RigidBodyMotionKinds, LockingTheRotationStopsASpinningBody) {
+  RigidBody body(mass_properties(1.0, 1.0, Eigen::Matrix3d::Identity()), Environment{},
+                 spinning(Attitude::from_set1(0.1, 0.2, 0.3), Eigen::Vector3d(0.0, 2.0, 0.0)));
+  body.lock_rotation();
+  EXPECT_EQ(body.state().angular_velocity_b_si, Eigen::Vector3d::Zero());
+  // A state restored later (a checkpoint) keeps the lock.
+  body.set_state(spinning(Attitude::from_set1(0.1, 0.2, 0.3), Eigen::Vector3d(1.0, 0.0, 0.0)));
+  EXPECT_EQ(body.state().angular_velocity_b_si, Eigen::Vector3d::Zero());
+}
+
 TEST(RigidBodyMotionKinds, RejectsInvalidMassProperties) {
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   EXPECT_THROW(RigidBody(mass_properties(0.0, 1.0, identity), Environment{}, RigidBodyState{}), std::invalid_argument);
