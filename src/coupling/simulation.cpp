@@ -270,6 +270,9 @@ void Simulation::step() {
 void Simulation::follow_body() {
   const Eigen::Vector3d centre = frame_.to_lattice(body_->state().position_si);
   for (int a = 0; a < 3; ++a) {
+    // A periodic axis is a ring: the body crosses its wrap as it is, where a shift would drop the
+    // layer it leaves and refill the other face at rest, a seam in the ring the fluid wraps across.
+    if (setup_.boundaries[static_cast<std::size_t>(a)] == lbm::Boundary::periodic) continue;
     const double offset = centre[a] - window_anchor_[a];
     if (std::abs(offset) < 1.0) continue;
     const int sign = offset > 0.0 ? 1 : -1;

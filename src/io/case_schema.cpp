@@ -120,7 +120,8 @@ std::vector<KeySpec> declare() {
       choice("domain.outflow", "none", faces,
              "face where the fluid leaves (a pressure outlet at the reference density), e.g. \"z+\"; replaces "
              "domain.walls on that face"),
-      boolean("domain.follow_particle", false, "moving window: the fluid window follows the particle"),
+      boolean("domain.follow_particle", false,
+              "moving window: the fluid window follows the particle along the axes that are not periodic"),
       // [numerics]
       real("numerics.cells_per_diameter", Value(16.0), "", closed(4.0, 256.0),
            "grid cells per volume-equivalent diameter"),
