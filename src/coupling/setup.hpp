@@ -2,6 +2,7 @@
 // The set-up of one run in SI units: the particle, the fluid, the domain, the numerics and the
 // contact model, as io/case.cpp builds it from a case file (docs/case-file.md lists the keys).
 #include <array>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -35,6 +36,10 @@ struct SimulationSetup {
   /// particle.hold_ramp_time), so that the fluid is not struck by a body that starts at speed; 0:
   /// an impulsive start.
   double hold_ramp_time_si = 0.0;
+  /// Towed bodies: the prescribed velocity (m/s, inertial) as a function of time (s), in place of
+  /// the constant initial one and its ramp; empty: initial.velocity_si. Set by code, not by a case
+  /// key: the oscillating sphere of tests/coupling/oscillating_sphere.hpp.
+  std::function<Eigen::Vector3d(double t_si)> towed_velocity_si;
   /// Free bodies: the attitude is held and only Newton's law moves the body (particle.lock_rotation;
   /// body::RigidBody::lock_rotation).
   bool rotation_locked = false;

@@ -65,11 +65,16 @@ body::VirtualInertia virtual_inertia_for(const body::RigidBody& body, double flu
   return v;
 }
 
-// A held body's velocities at time t: the initial ones, or during particle.hold_ramp_time that
+// A held body's velocities at time t: a towed body's towed_velocity_si(t) if it has one; else the
+// initial ones, or during particle.hold_ramp_time that
 // fraction of them. A body set moving at once (at a lattice velocity of 0.05) strikes the fluid with
 // a pressure pulse of about 10% of its density; ramped up over some hundreds of steps it pushes the
 // fluid aside as an added mass would, without the pulse (docs/coupling.md, "Held start").
 body::RigidBodyState held_state_at(const SimulationSetup& s, body::RigidBodyState state, double t_si) {
+  if (s.motion == body::MotionKind::towed && s.towed_velocity_si) {
+    state.velocity_si = s.towed_velocity_si(t_si);
+    return state;
+  }
   const double fraction = s.hold_ramp_time_si > 0.0 ? std::min(1.0, t_si / s.hold_ramp_time_si) : 1.0;
   state.velocity_si = fraction * s.initial.velocity_si;
   state.angular_velocity_b_si = fraction * s.initial.angular_velocity_b_si;
@@ -79,6 +84,7 @@ body::RigidBodyState held_state_at(const SimulationSetup& s, body::RigidBodyStat
 }  // namespace
 
 bool Simulation::ramping() const {
+  if (setup_.motion == body::MotionKind::towed && setup_.towed_velocity_si) return true;
   if (!(setup_.hold_ramp_time_si > 0.0)) return false;
   if (setup_.motion == body::MotionKind::towed)
     return static_cast<double>(steps_) * plan_.units.dt_si() < setup_.hold_ramp_time_si;

@@ -127,8 +127,9 @@ class Simulation {
   /// True while a free body is held before its release (SimulationSetup::release_time_si): the
   /// next step moves it with its initial velocities, the fluid forms its wake around it.
   bool held() const { return steps_ < plan_.release_step; }
-  /// True while the next step still ramps the body's prescribed velocities up from rest
-  /// (SimulationSetup::hold_ramp_time_si): a held free body's or a towed body's.
+  /// True while the next step still sets the body's prescribed velocities: ramps them up from
+  /// rest (SimulationSetup::hold_ramp_time_si; a held free body's or a towed body's), or, for a
+  /// towed body with SimulationSetup::towed_velocity_si, at every step.
   bool ramping() const;
 
   /// Mean fluid velocity over the whole domain with the solid counted as zero (the superficial

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 
 #include <gtest/gtest.h>
 
@@ -157,6 +158,27 @@ TEST(Release, ATowedBodyRampsUpThenKeepsItsTowingVelocity) {
   const double gentle = largest_density_deviation(ramped_again, kRampSteps / 2);
   EXPECT_GT(pulse, 0.01);
   EXPECT_LT(gentle, 0.25 * pulse) << "impulsive " << pulse << ", ramped " << gentle;
+}
+
+// A towed body given a velocity as a function of time (SimulationSetup::towed_velocity_si, the
+// oscillating sphere's drive) has it at every step, in place of the constant initial one, and moves
+// over each step with the velocity of the step's start, as above.
+TEST(Release, ATowedBodyFollowsItsPrescribedVelocityFunction) {
+  SimulationSetup setup = sphere_moving_down(body::MotionKind::towed);
+  const double dt = Simulation(setup).units().dt_si();
+  const double omega = 2.0 * std::numbers::pi / (40.0 * dt);
+  const Eigen::Vector3d v0 = setup.initial.velocity_si, x0 = setup.initial.position_si;
+  setup.towed_velocity_si = [v0, omega](double t) -> Eigen::Vector3d { return std::sin(omega * t) * v0; };
+  Simulation sim(setup);
+  EXPECT_EQ(sim.body().state().velocity_si, Eigen::Vector3d::Zero());
+  Eigen::Vector3d position = x0;
+  for (int n = 1; n <= 60; ++n) {
+    position += dt * std::sin(omega * (n - 1) * dt) * v0;
+    sim.step();
+    ASSERT_LE((sim.body().state().velocity_si - std::sin(omega * n * dt) * v0).norm(), 1e-12 * v0.norm()) << n;
+    ASSERT_LE((sim.body().state().position_si - position).norm(), 1e-12 * x0.norm()) << n;
+  }
+  EXPECT_TRUE(sim.ramping());
 }
 
 TEST(Release, WithoutAReleaseTimeAFreeBodyIsNeverHeld) {
