@@ -30,7 +30,7 @@ OscillatingSphereOptions case_c_conditions() {
   if (const char* box = std::getenv("SETTLE_OSCILLATING_BOX")) o.box_cells = std::stoi(box);
   if (const char* kind = std::getenv("SETTLE_OSCILLATING_COUPLING"))
     o.coupling = std::string(kind) == "immersed_boundary" ? settle::coupling::CouplingKind::immersed_boundary
-                                                           : settle::coupling::CouplingKind::momentum_exchange;
+                                                          : settle::coupling::CouplingKind::momentum_exchange;
   return o;
 }
 
