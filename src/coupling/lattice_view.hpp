@@ -3,6 +3,7 @@
 // cells are given in whole-lattice coordinates, unwrapped; this says where each lives. Internal to
 // the coupling module (both couplings and the simulation use it).
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 
@@ -30,6 +31,17 @@ class LatticeView {
       c[a] = ((c[a] % n) + n) % n;
     }
     return c;
+  }
+  /// The image of a wrapped cell nearest to `near` (lattice coordinates) along the periodic axes: the
+  /// unwrapped place of a body's cell when the body straddles a wrap (its centre lies on one side,
+  /// the cell's wrapped coordinates on the other).
+  std::array<int, 3> image_near(std::array<int, 3> wrapped, const std::array<double, 3>& near) const {
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (!periodic_[a]) continue;
+      const int n = split_.global[a];
+      wrapped[a] += n * static_cast<int>(std::lround((near[a] - wrapped[a]) / n));
+    }
+    return wrapped;
   }
   std::size_t index(const std::array<int, 3>& c) const {
     const auto g = split_.global;

@@ -266,8 +266,12 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
   for (const std::array<int, 3>& local : fluid.solid_cell_list()) {
     const std::array<int, 3> x = view.to_lattice(local);
     if (now_solid(x)) continue;
+    // The cell where the body is: across a periodic wrap from its wrapped coordinates when the
+    // body straddles the wrap (its lever arm and normal would otherwise span the lattice).
+    const std::array<int, 3> at = view.image_near(x, {pose_.centre.x(), pose_.centre.y(), pose_.centre.z()});
+    const Eigen::Vector3d x_body(at[0], at[1], at[2]);
     // Away from the body: the outward normal at the nearest surface point.
-    const Eigen::Vector3d p_b = to_body * ((Eigen::Vector3d(x[0], x[1], x[2]) - pose_.centre) * dx_si_);
+    const Eigen::Vector3d p_b = to_body * ((x_body - pose_.centre) * dx_si_);
     const Eigen::Vector3d normal = pose_.body_to_inertial * shape_->outward_normal(shape_->closest_surface_point(p_b));
     double density_sum = 0.0;
     int count = 0;
@@ -303,7 +307,7 @@ void MomentumExchangeCoupling::refill_uncovered(lbm::Solver& fluid) const {
       candidates.emplace_back(along, neq);
     }
     mean_of_closest(candidates, best - kTie, f_neq);
-    const Eigen::Vector3d u = pose_.velocity_at(Eigen::Vector3d(x[0], x[1], x[2]));
+    const Eigen::Vector3d u = pose_.velocity_at(x_body);
     fluid.refill_cell_with(local, count > 0 ? density_sum / count : 1.0, u, f_neq);
   }
 }
