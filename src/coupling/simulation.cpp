@@ -66,10 +66,10 @@ body::VirtualInertia virtual_inertia_for(const body::RigidBody& body, double flu
 }
 
 // A held body's velocities at time t: a towed body's towed_velocity_si(t) if it has one; else the
-// initial ones, or during particle.hold_ramp_time that
-// fraction of them. A body set moving at once (at a lattice velocity of 0.05) strikes the fluid with
-// a pressure pulse of about 10% of its density; ramped up over some hundreds of steps it pushes the
-// fluid aside as an added mass would, without the pulse (docs/coupling.md, "Held start").
+// initial ones, or during particle.hold_ramp_time that fraction of them. A body set moving at once
+// (at a lattice velocity of 0.05) strikes the fluid with a pressure pulse of about 10% of its
+// density; ramped up over some hundreds of steps it pushes the fluid aside as an added mass would,
+// without the pulse (docs/coupling.md, "Held start").
 body::RigidBodyState held_state_at(const SimulationSetup& s, body::RigidBodyState state, double t_si) {
   if (s.motion == body::MotionKind::towed && s.towed_velocity_si) {
     state.velocity_si = s.towed_velocity_si(t_si);
