@@ -6,7 +6,10 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/install-deps.sh clang-format-14
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
-  mapfile -t files < <(git ls-files '*.cpp' '*.hpp')
+  # Tracked and new (untracked, not ignored) files alike, so that a file is checked before it is
+  # added; a tracked file deleted in the work tree is skipped.
+  mapfile -t files < <(git ls-files --cached --others --exclude-standard '*.cpp' '*.hpp' |
+    while read -r f; do [[ -f $f ]] && echo "$f"; done | sort -u)
 else
   mapfile -t files < <(find src tests bench -name '*.cpp' -o -name '*.hpp')
 fi

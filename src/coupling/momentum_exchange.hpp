@@ -106,6 +106,8 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   /// the whole lattice), from an exchange with the adjacent blocks.
   std::unordered_map<std::size_t, NeighbourCell> neighbour_cells(const lbm::Solver& fluid) const;
   LatticeWrench link_sum(const lbm::Solver& fluid) const;
+  /// Every block's link momenta (this block's are `momentum`) in the whole lattice's link order.
+  std::vector<Eigen::Vector3d> gathered_link_momenta(const std::vector<Eigen::Vector3d>& momentum) const;
 
   std::shared_ptr<const body::Shape> shape_;
   double dx_si_;
