@@ -100,6 +100,8 @@ struct CouplingOptions {
   // momentum exchange
   lbm::WallRule wall_rule = lbm::kDefaultWallRule;
   bool covered_cell_torque = kDefaultCoveredCellTorque;
+  /// The body is placed once per this many lattice steps (SimulationSetup::lattice_steps_per_body_step).
+  int lattice_steps_per_body_step = 1;
 };
 
 /// The box of cells the coupling `options` chooses works on for a body at `centre` (lattice units)

@@ -42,6 +42,15 @@ void check_setup(const SimulationSetup& s) {
     throw InputError(
         "fluid.body_force: only for particle.motion = \"fixed\" or \"towed\" (a free particle would be "
         "carried by the driven flow); set it to [0, 0, 0]");
+  if (s.lattice_steps_per_body_step != 1 && s.lattice_steps_per_body_step != 2)
+    throw InputError(
+        fmt::format("numerics.lattice_steps_per_body_step: must be 1 or 2, got {}", s.lattice_steps_per_body_step));
+  // The immersed boundary forces the fluid towards the body's velocity at every lattice step; held
+  // for two, its wrench would need its own averaging, which it does not have.
+  if (s.lattice_steps_per_body_step == 2 && s.coupling != CouplingKind::momentum_exchange)
+    throw InputError(
+        "numerics.lattice_steps_per_body_step: 2 is for numerics.coupling = \"momentum_exchange\" only; set it to 1 "
+        "or choose the momentum exchange");
   check_contact_setup(s);
 }
 
@@ -112,6 +121,7 @@ CouplingOptions coupling_options(const SimulationSetup& setup) {
   options.interior_markers = setup.interior_markers;
   options.wall_rule = setup.wall_rule;
   options.covered_cell_torque = setup.covered_cell_torque;
+  options.lattice_steps_per_body_step = setup.lattice_steps_per_body_step;
   return options;
 }
 

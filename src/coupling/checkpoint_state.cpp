@@ -94,6 +94,7 @@ Fingerprint fingerprint_of(const Simulation& sim) {
        lbm::to_string(s.wall_rule)},
       {"covered cells' torque (numerics.covered_cell_torque)", s.covered_cell_torque ? 1.0 : 0.0,
        s.covered_cell_torque ? "true" : "false"},
+      number("lattice steps per body step (numerics.lattice_steps_per_body_step)", s.lattice_steps_per_body_step),
       face_entry("inflow face", s.inflow),
       number("inflow velocity x (lattice units)", c.inflow_velocity.x()),
       number("inflow velocity y (lattice units)", c.inflow_velocity.y()),
@@ -476,6 +477,8 @@ std::filesystem::path checkpoint_parts_directory(const std::filesystem::path& fi
 }
 
 void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller, const std::filesystem::path& file) {
+  if (!sim.between_body_steps())
+    throw std::logic_error("write_checkpoint: a body step is half done (the runner waits for its end)");
   if (sim.communicator().size() > 1) return write_split_checkpoint(sim, caller, file);
   const lbm::FluidState fluid = sim.fluid().export_state();
   CheckpointWriter writer;

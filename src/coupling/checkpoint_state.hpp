@@ -49,7 +49,7 @@ struct CheckpointCallerData {
 
 /// Writes the simulation's state and the caller's data to `file` atomically (common/checkpoint_file.hpp:
 /// the previous file stays whole until the new one is complete). Throws CheckpointError on an
-/// I/O failure.
+/// I/O failure, std::logic_error when a body step is half done (Simulation::between_body_steps).
 ///
 /// Across processes (simulation.communicator() of more than one rank; every rank calls it) the
 /// checkpoint comes in parts (docs/checkpoints.md, "Across processes"): each rank writes its block

@@ -155,6 +155,7 @@ void MomentumExchangeCoupling::start(lbm::Solver& fluid, const LatticePose& pose
 
 void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose& pose) {
   pose_ = pose;
+  placed_since_impose_ = true;
   BodyWalls whole = body_walls(*shape_, dx_si_, box_at(pose.centre, pose.body_to_inertial), pose,
                                lbm::velocity_set(fluid.config().lattice), options_.wall_rule);
   const LatticeView view(fluid);
@@ -352,6 +353,10 @@ bool MomentumExchangeCoupling::lattice_has_solid_cells(const lbm::Solver& fluid)
 }
 
 void MomentumExchangeCoupling::impose(lbm::Solver& fluid) {
+  // Walls held over a second lattice step (lattice_steps_per_body_step = 2) are in the fluid
+  // already, and the cells covered when they were placed keep their torque for the pair.
+  if (!placed_since_impose_) return;
+  placed_since_impose_ = false;
   // A fresh start's first impose turns the body's own cells solid: nothing is covered then. A
   // restored run's fluid already holds them, and its first impose covers cells as any other does.
   bool count = options_.covered_cell_torque;
@@ -408,7 +413,10 @@ CouplingForces MomentumExchangeCoupling::measure(const lbm::Solver& fluid) {
   const LatticeWrench links = link_sum(fluid);
   CouplingForces f;
   f.surface.force = 0.5 * (links.force + previous_links_.force);
-  f.surface.torque = 0.5 * (links.torque + previous_links_.torque) + covered_torque_;
+  // The covered cells' angular momentum is an impulse of the placement, spread over the lattice
+  // steps the placement lasts.
+  f.surface.torque = 0.5 * (links.torque + previous_links_.torque) +
+                     covered_torque_ / static_cast<double>(options_.lattice_steps_per_body_step);
   previous_links_ = links;
   // A body force on the fluid stands for a mean pressure gradient, which pushes on the body's
   // volume too; inside an immersed boundary the enclosed fluid passes it on, here the solid

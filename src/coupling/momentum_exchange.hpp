@@ -45,6 +45,14 @@
 // about the centre of that step, a twentieth of a cell away at the lattice speeds used. The first
 // step averages with a zero wrench (the body and the fluid start at rest relative to each other or
 // held); checkpoints carry the earlier step's link sum.
+//
+// With CouplingOptions::lattice_steps_per_body_step = 2 the walls are placed once per two lattice
+// steps and held for both, and the mean the second step reports is the mean over the pair: the
+// scheme of Rettinger and Ruede 2017 (the body moves once per two steps with the averaged force).
+// waLBerla's later reproduction of their benchmark (lssfau/walberla,
+// apps/benchmarks/FluidParticleCoupling/MotionSettlingSphere.cpp, head comment) notes that holding
+// the walls breaks Galilean invariance a little and moved its linear-rule results; it is here as a
+// control (docs/coupling.md, "Force averaging").
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -129,6 +137,9 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   std::vector<std::array<int, 3>> whole_solid_cells_;
   Eigen::Vector3d covered_torque_ = Eigen::Vector3d::Zero();
   bool first_impose_ = true;
+  /// Whether place() ran since the last impose(): a placement held for a second lattice step is not
+  /// imposed again.
+  bool placed_since_impose_ = false;
 };
 
 }  // namespace settle::coupling

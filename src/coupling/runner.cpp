@@ -172,6 +172,8 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     interval.add(sim.last_step().hydrodynamic, sim.last_step().contact);
     time.advance();
     sample_if_due();
+    // Checkpoints and stops wait for the end of a body step that spans two lattice steps.
+    if (!sim.between_body_steps()) continue;
     const std::array<bool, 2> wall_events = decided_together(
         sim.communicator(),
         {stop_reason.empty() && callbacks.interrupted && callbacks.interrupted(),

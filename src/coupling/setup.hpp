@@ -66,6 +66,9 @@ struct SimulationSetup {
   CouplingKind coupling = kDefaultCoupling;
   lbm::WallRule wall_rule = lbm::kDefaultWallRule;       ///< momentum exchange only
   bool covered_cell_torque = kDefaultCoveredCellTorque;  ///< momentum exchange only
+  /// Lattice steps per step of the body (1 or 2; momentum exchange only): with 2 the body moves once
+  /// per two lattice steps with the wrench of both (Simulation::step; docs/coupling.md, "Force averaging").
+  int lattice_steps_per_body_step = 1;
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
   int forcing_iterations = 3;
   double marker_retraction_cells = calibrated_marker_retraction_cells(false);  ///< cells; docs/coupling.md

@@ -195,7 +195,9 @@ CellBox Simulation::box_at(const Eigen::Vector3d& centre, const Eigen::Matrix3d&
 }
 
 bool Simulation::can_step() const {
-  const body::Pose pose = body_->predict_pose(plan_.units.dt_si());
+  // Mid-way through a body step the walls stay where its start placed them.
+  if (!between_body_steps()) return true;
+  const body::Pose pose = body_->predict_pose(body_step_dt_si());
   return box_fits(box_at(frame_.to_lattice(pose.position_si), pose.attitude.body_to_inertial()), *fluid_);
 }
 
@@ -205,21 +207,15 @@ SolidCells Simulation::current_solid_cells() const {
   return solid_cells(*setup_.shape, plan_.units.dx_si(), box_at(centre, rotation), centre, rotation);
 }
 
+bool Simulation::between_body_steps() const { return steps_ % setup_.lattice_steps_per_body_step == 0; }
+
+double Simulation::body_step_dt_si() const { return setup_.lattice_steps_per_body_step * plan_.units.dt_si(); }
+
 void Simulation::step() {
   const double dt_si = plan_.units.dt_si();
-  body::Pose pose;
-  {
-    ScopedTimer timer(timers_, "body_predictor");
-    pose = body_->predict_pose(dt_si);
-  }
-
-  {
-    ScopedTimer timer(timers_, "markers");
-    const LatticePose placed = lattice_pose(pose);
-    if (!box_fits(box_at(placed.centre, placed.body_to_inertial), *fluid_))
-      throw std::logic_error("Simulation::step: the body left the grid (check can_step)");
-    coupling_->place(*fluid_, placed);
-  }
+  const bool body_step_starts = between_body_steps();
+  const bool body_step_ends = (steps_ + 1) % setup_.lattice_steps_per_body_step == 0;
+  if (body_step_starts) place_body();
   {
     ScopedTimer timer(timers_, "forcing");
     coupling_->impose(*fluid_);
@@ -245,32 +241,48 @@ void Simulation::step() {
     last_.slip_max_si = plan_.units.velocity_si(forces.slip_max);
     last_.slip_rms_si = plan_.units.velocity_si(forces.slip_rms);
   }
-  {
-    ScopedTimer timer(timers_, "body_corrector");
-    const body::RigidBodyState start = body_->state();
-    const bool ramp = ramping();
-    if (held()) {
-      body_->hold(dt_si);
-    } else if (contact_) {
-      const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic, virtual_inertia_);
-      last_.contact = contact.mean_wrench;
-      last_.wall_gap_si = contact.min_gap_si;
-    } else {
-      body_->correct(dt_si, last_.hydrodynamic, virtual_inertia_);
-    }
-    if (ramp) body_->set_state(held_state_at(setup_, body_->state(), static_cast<double>(steps_ + 1) * dt_si));
-    // This step's mean accelerations are the next step's estimate a_est (the previous step's
-    // acceleration, as waLBerla's AddVirtualForceTorqueKernel takes it): a lag of one step, so the
-    // virtual terms m_v (a_est - a) vanish whenever the acceleration is steady.
-    virtual_inertia_.acceleration_si = (body_->state().velocity_si - start.velocity_si) / dt_si;
-    virtual_inertia_.angular_acceleration_b_si =
-        (body_->state().angular_velocity_b_si - start.angular_velocity_b_si) / dt_si;
-  }
-  {
+  if (body_step_ends) {
+    move_body(static_cast<double>(steps_ + 1) * dt_si);
     ScopedTimer timer(timers_, "moving_window");
     if (setup_.follow_particle) follow_body();
   }
   ++steps_;
+}
+
+void Simulation::place_body() {
+  body::Pose pose;
+  {
+    ScopedTimer timer(timers_, "body_predictor");
+    pose = body_->predict_pose(body_step_dt_si());
+  }
+  ScopedTimer timer(timers_, "markers");
+  const LatticePose placed = lattice_pose(pose);
+  if (!box_fits(box_at(placed.centre, placed.body_to_inertial), *fluid_))
+    throw std::logic_error("Simulation::step: the body left the grid (check can_step)");
+  coupling_->place(*fluid_, placed);
+}
+
+void Simulation::move_body(double end_time_si) {
+  ScopedTimer timer(timers_, "body_corrector");
+  const double dt_si = body_step_dt_si();
+  const body::RigidBodyState start = body_->state();
+  const bool ramp = ramping();
+  if (held()) {
+    body_->hold(dt_si);
+  } else if (contact_) {
+    const body::ContactStep contact = contact_->advance(*body_, dt_si, last_.hydrodynamic, virtual_inertia_);
+    last_.contact = contact.mean_wrench;
+    last_.wall_gap_si = contact.min_gap_si;
+  } else {
+    body_->correct(dt_si, last_.hydrodynamic, virtual_inertia_);
+  }
+  if (ramp) body_->set_state(held_state_at(setup_, body_->state(), end_time_si));
+  // This step's mean accelerations are the next step's estimate a_est (the previous step's
+  // acceleration, as waLBerla's AddVirtualForceTorqueKernel takes it): a lag of one step, so the
+  // virtual terms m_v (a_est - a) vanish whenever the acceleration is steady.
+  virtual_inertia_.acceleration_si = (body_->state().velocity_si - start.velocity_si) / dt_si;
+  virtual_inertia_.angular_acceleration_b_si =
+      (body_->state().angular_velocity_b_si - start.angular_velocity_b_si) / dt_si;
 }
 
 void Simulation::follow_body() {

@@ -22,6 +22,11 @@
 //                        (body::WallContact; docs/rigid-body.md)
 //  6. moving_window      shift the fluid one cell when the body is a cell off its starting place
 //
+// With SimulationSetup::lattice_steps_per_body_step = 2 (momentum exchange only) a body step spans
+// two lattice steps: sub-steps 1-2 run at the first (the pose predicted two lattice steps ahead),
+// 3-4 at both (the walls held), 5-6 at the second, with the wrench of the pair (coupling/
+// momentum_exchange.hpp).
+//
 // Coupling choices written down here: the markers move with the velocities of the step's start
 // (explicit in the body velocity, as Uhlmann 2005 and Breugem 2012); the wrench measured at the
 // predicted pose is held constant over the step by the corrector. That explicit coupling is
@@ -109,6 +114,11 @@ class Simulation {
   void step();
   /// False when the next step's forcing stencil would leave the grid (body at a wall).
   bool can_step() const;
+  /// True unless a body step spanning two lattice steps (SimulationSetup::lattice_steps_per_body_step)
+  /// is half done: the only states a checkpoint may hold.
+  bool between_body_steps() const;
+  /// The body's time step: lattice_steps_per_body_step lattice steps.
+  double body_step_dt_si() const;
 
   const SimulationSetup& setup() const { return setup_; }
   const DerivedQuantities& derived() const { return derived_; }
@@ -152,6 +162,10 @@ class Simulation {
   Eigen::Vector3d lattice_velocity(const Eigen::Vector3d& velocity_si) const;
   lbm::SolverConfig fluid_config() const;
   void follow_body();
+  /// Sub-steps 1-2: predicts the pose at the end of the body step and places the walls there.
+  void place_body();
+  /// Sub-step 5 over one body step ending at end_time_si, with the last measured wrench.
+  void move_body(double end_time_si);
 
   SimulationSetup setup_;
   parallel::Communicator& communicator_;

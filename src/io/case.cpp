@@ -294,6 +294,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.coupling = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
   s.wall_rule = lbm::parse_wall_rule(v.string("numerics.wall_rule"), "numerics.wall_rule");
   s.covered_cell_torque = v.boolean("numerics.covered_cell_torque");
+  s.lattice_steps_per_body_step = static_cast<int>(v.integer("numerics.lattice_steps_per_body_step"));
   s.kernel = ibm::delta_kernel_from_string(v.string("numerics.delta_kernel"), "numerics.delta_kernel");
   s.forcing_iterations = static_cast<int>(v.integer("numerics.forcing_iterations"));
   s.interior_markers = v.boolean("numerics.interior_markers");

@@ -143,6 +143,10 @@ std::vector<KeySpec> declare() {
       boolean("numerics.covered_cell_torque", coupling::kDefaultCoveredCellTorque,
               "momentum exchange: the body also takes the angular momentum by which the fluid of the cells it "
               "covers lags its rotation (docs/coupling.md)"),
+      integer("numerics.lattice_steps_per_body_step", 1, closed(1, 2),
+              "momentum exchange: 2 moves the body once per two lattice steps with the wrench averaged over both "
+              "(Rettinger and Ruede 2017), 1 every step with each step's wrench averaged with the one before "
+              "(docs/coupling.md, Force averaging)"),
       choice("numerics.delta_kernel", "roma3", {"roma3", "peskin4"}, "immersed-boundary delta kernel"),
       integer("numerics.forcing_iterations", 3, closed(1, 50), "multi-direct forcing sweeps per step"),
       real("numerics.marker_retraction", std::nullopt, "cells", closed(0.0, 0.5),

@@ -156,6 +156,16 @@ TEST_F(MalformedInput, ChoiceOutsideTheAllowedStrings) {
 
 // ---- values out of range, not finite ------------------------------------------------------------
 
+TEST_F(MalformedInput, IntegerOutsideItsRange) {
+  expect_refused_set("--set numerics.lattice_steps_per_body_step=3",
+                     {"[numerics] lattice_steps_per_body_step", "must be in [1, 2]"});
+}
+
+TEST_F(MalformedInput, TwoLatticeStepsPerBodyStepWithTheImmersedBoundary) {
+  expect_refused_set("--set numerics.lattice_steps_per_body_step=2 --set 'numerics.coupling=\"immersed_boundary\"'",
+                     {"numerics.lattice_steps_per_body_step", "momentum_exchange"});
+}
+
 TEST_F(MalformedInput, ZeroFluidDensity) { expect_refused_set("--set fluid.density=0", {"[fluid] density", "> 0.0"}); }
 
 TEST_F(MalformedInput, NegativeParticleDensity) {

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -252,6 +253,38 @@ TEST_F(RestartTest, MomentumExchangeContinuesBitForBitAtBothParities) {
     expect_identical(reference, restarted);
     EXPECT_EQ(restarted.fluid().solid_cell_list(), reference.fluid().solid_cell_list());
   }
+}
+
+TEST_F(RestartTest, PairedBodyStepsContinueBitForBitFromTheEndOfAPair) {
+  // With the body moved once per two lattice steps a checkpoint holds the state between two body
+  // steps; half-way through one it is refused rather than written without the held walls.
+  SimulationSetup setup = settling_spheroid();
+  setup.coupling = CouplingKind::momentum_exchange;
+  setup.covered_cell_torque = true;
+  setup.lattice_steps_per_body_step = 2;
+  constexpr std::int64_t kTotal = 100;
+  Simulation reference(setup);
+  for (std::int64_t n = 0; n < kTotal; ++n) reference.step();
+  Simulation first(setup);
+  while (first.steps() < 60) first.step();
+  ASSERT_TRUE(first.between_body_steps());
+  const fs::path file = dir_ / "checkpoint_60.bin";
+  write_checkpoint(first, {}, file);
+  ASSERT_NE(first.frame().window_origin_si.z(), 0.0) << "the window has not moved: enlarge the run";
+  first.step();
+  EXPECT_FALSE(first.between_body_steps());
+  EXPECT_THROW(write_checkpoint(first, {}, dir_ / "checkpoint_61.bin"), std::logic_error);
+  EXPECT_FALSE(fs::exists(dir_ / "checkpoint_61.bin"));
+
+  Simulation restarted(setup);
+  SimulationCheckpoint(file).restore(restarted);
+  while (restarted.steps() < kTotal) restarted.step();
+  expect_identical(reference, restarted);
+  // And the pairs moved the body: it differs from the one-step scheme's.
+  setup.lattice_steps_per_body_step = 1;
+  Simulation one_step(setup);
+  for (std::int64_t n = 0; n < kTotal; ++n) one_step.step();
+  EXPECT_NE(one_step.body().state().position_si, reference.body().state().position_si);
 }
 
 TEST(FluidState, ImportRefusesAForeignStateAndChangesNothing) {
