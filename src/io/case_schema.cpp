@@ -137,9 +137,10 @@ std::vector<KeySpec> declare() {
       choice("numerics.coupling", default_coupling.c_str(), {"immersed_boundary", "momentum_exchange"},
              "how the body meets the fluid: diffuse immersed boundary, or sharp-interface momentum exchange with "
              "interpolated bounce-back (docs/coupling.md, Couplings)"),
-      choice("numerics.wall_rule", default_wall_rule.c_str(), {"bouzidi", "quadratic", "halfway"},
-             "momentum exchange: bounce-back interpolated at the true surface, linearly (bouzidi) or from three "
-             "points (quadratic), or half-way on the cells' faces (halfway, a staircase)"),
+      choice("numerics.wall_rule", default_wall_rule.c_str(), {"bouzidi", "quadratic", "central_linear", "halfway"},
+             "momentum exchange: bounce-back interpolated at the true surface, linearly (bouzidi), from three "
+             "points (quadratic) or by Ginzburg's central linear rule (central_linear), or half-way on the cells' "
+             "faces (halfway, a staircase)"),
       boolean("numerics.covered_cell_torque", coupling::kDefaultCoveredCellTorque,
               "momentum exchange: the body also takes the angular momentum by which the fluid of the cells it "
               "covers lags its rotation (docs/coupling.md)"),

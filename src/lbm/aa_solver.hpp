@@ -891,6 +891,8 @@ class AaSolver final : public Solver {
   static constexpr std::size_t kNoFar = static_cast<std::size_t>(-1), kFarUnplanned = kNoFar - 1;
   /// The coefficients of Bouzidi's linear (`quadratic` false) or quadratic rule at fraction q.
   static void set_interpolation(PreparedLink& p, double q, double moving, bool quadratic);
+  /// The coefficients of Ginzburg's central linear rule at fraction q.
+  static void set_central_linear(PreparedLink& p, double q, double moving);
   /// True when x - c_i and x - 2 c_i are fluid cells of the lattice (x in block coordinates).
   bool has_two_fluid_cells_behind(const std::array<int, 3>& x, const std::array<int, 3>& c) const;
   /// Whether cell y (block coordinates, at most two cells beyond the block's faces) is solid; empty
@@ -1289,10 +1291,14 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
                         (c[0] * link.wall_velocity[0] + c[1] * link.wall_velocity[1] + c[2] * link.wall_velocity[2]);
   p.third = p.fluid;
   const double q = link.q;
-  if (rule == WallRule::halfway || (q < 0.5 && !has_second)) {
-    // Without the second node the q < 1/2 interpolation has nothing to lean on: half-way
-    // bounce-back there (first order at that link only).
+  if (rule == WallRule::halfway || (!has_second && (q < 0.5 || rule == WallRule::central_linear))) {
+    // Without the second node the interpolation has nothing to lean on: half-way bounce-back
+    // there (first order at that link only).
     p.a = 1.0, p.wall = moving;
+    return p;
+  }
+  if (rule == WallRule::central_linear) {
+    set_central_linear(p, q, moving);
     return p;
   }
   const bool quadratic = rule == WallRule::quadratic && has_two_fluid_cells_behind(x, c);
@@ -1329,6 +1335,16 @@ void AaSolver<L, Collision, Real>::set_interpolation(PreparedLink& p, double q, 
     p.a = 1.0 / (q * (2.0 * q + 1.0)), p.c = (2.0 * q - 1.0) / q, p.c2 = -(2.0 * q - 1.0) / (2.0 * q + 1.0);
     p.wall = moving * p.a;
   }
+}
+
+// Central linear interpolation (Ginzburg, Verhaeghe and d'Humieres 2008, their Eq. (4.1) with the
+// coefficients of their Tables 3 and 4): f_back = f*_i(x) + k (f*_i(x - c_i) - f*_opp(i)(x)) with
+// k = (1 - 2q) / (1 + 2q), and the moving-wall term scaled by 2 / (1 + 2q). Unlike Bouzidi's rule it
+// needs no switch at q = 1/2, where it is half-way bounce-back; for every q it reads x - c_i.
+template <Lattice L, class Collision, class Real>
+void AaSolver<L, Collision, Real>::set_central_linear(PreparedLink& p, double q, double moving) {
+  const double k = (1.0 - 2.0 * q) / (1.0 + 2.0 * q);
+  p.a = 1.0, p.b = k, p.c = -k, p.wall = moving * 2.0 / (1.0 + 2.0 * q);
 }
 
 template <Lattice L, class Collision, class Real>

@@ -116,14 +116,16 @@ std::string to_string(WallRule rule) {
       return "bouzidi";
     case WallRule::quadratic:
       return "quadratic";
+    case WallRule::central_linear:
+      return "central_linear";
   }
   return "?";
 }
 
 WallRule parse_wall_rule(const std::string& name, const std::string& what) {
-  for (const WallRule rule : {WallRule::bouzidi, WallRule::quadratic, WallRule::halfway})
+  for (const WallRule rule : {WallRule::bouzidi, WallRule::quadratic, WallRule::central_linear, WallRule::halfway})
     if (name == to_string(rule)) return rule;
-  throw InputError(fmt::format("{}: must be bouzidi, quadratic or halfway, got '{}'", what, name));
+  throw InputError(fmt::format("{}: must be bouzidi, quadratic, central_linear or halfway, got '{}'", what, name));
 }
 
 }  // namespace settle::lbm

@@ -112,11 +112,15 @@ struct WallLink {
 ///   x - 2 c_i are fluid cells of the lattice (else the linear rule). On a split lattice a link
 ///   whose x - c_i is a ghost reads its third value from the block that holds that cell (the far
 ///   values, exchanged around the step: Solver::exchanges_far_values).
-enum class WallRule { halfway, bouzidi, quadratic };
+/// - central_linear: Ginzburg's central linear interpolation (CLI; Ginzburg, Verhaeghe and
+///   d'Humieres 2008, Commun. Comput. Phys. 3, 427), one formula for every q from f*_i at x and
+///   x - c_i and f*_opp(i) at x, second order; where x - c_i is not fluid, half-way at that link.
+enum class WallRule { halfway, bouzidi, quadratic, central_linear };
 /// The rule a case gets unless it chooses (docs/coupling.md says why).
 inline constexpr WallRule kDefaultWallRule = WallRule::bouzidi;
 std::string to_string(WallRule rule);
-/// The case file's names (bouzidi, quadratic, halfway); throws settle::InputError naming `what`.
+/// The case file's names (bouzidi, quadratic, central_linear, halfway); throws settle::InputError
+/// naming `what`.
 WallRule parse_wall_rule(const std::string& name, const std::string& what);
 
 /// Solid cells inside the grid and the links of fluid cells into them. The solid cells are not

@@ -289,6 +289,7 @@ TEST(CaseSchema, WallRuleReachesTheSetupByName) {
   EXPECT_EQ(rule_of(""), lbm::WallRule::bouzidi);
   EXPECT_EQ(rule_of("wall_rule = \"quadratic\"\n"), lbm::WallRule::quadratic);
   EXPECT_EQ(rule_of("wall_rule = \"halfway\"\n"), lbm::WallRule::halfway);
+  EXPECT_EQ(rule_of("wall_rule = \"central_linear\"\n"), lbm::WallRule::central_linear);
   try {
     rule_of("wall_rule = \"cubic\"\n");
     ADD_FAILURE() << "cubic was accepted";

@@ -293,8 +293,13 @@ class Reference {
     }
     quadratic = quadratic && has_second && !is_solid(third);
     double back = 0.0;
-    if (rule_ == WallRule::halfway || (q < 0.5 && !has_second)) {
+    const bool central = rule_ == WallRule::central_linear;
+    if (rule_ == WallRule::halfway || (!has_second && (q < 0.5 || central))) {
       back = post(x, i) + wall;
+    } else if (central) {
+      // Ginzburg, Verhaeghe and d'Humieres 2008, Eq. (4.1), Tables 3 and 4.
+      const double k = (1.0 - 2.0 * q) / (1.0 + 2.0 * q);
+      back = post(x, i) + k * (post(second, i) - post(x, o)) + 2.0 * wall / (1.0 + 2.0 * q);
     } else if (quadratic && q < 0.5) {
       back = q * (1.0 + 2.0 * q) * post(x, i) + (1.0 - 4.0 * q * q) * post(second, i) -
              q * (1.0 - 2.0 * q) * post(third, i) + wall;
@@ -559,7 +564,7 @@ TEST(LbmAaReference, ObstacleWithInterpolatedMovingWalls) {
   // A solid block, one of its cells across the periodic x faces, in a box with walls and an
   // inlet: every link takes a random q and wall velocity. Populations and the momentum exchange
   // of every link agree with the pull-form reference at both parities.
-  for (const auto rule : {WallRule::bouzidi, WallRule::quadratic, WallRule::halfway}) {
+  for (const auto rule : {WallRule::bouzidi, WallRule::quadratic, WallRule::central_linear, WallRule::halfway}) {
     for (const auto lattice : {LatticeKind::D3Q19, LatticeKind::D3Q27}) {
       auto cfg = small_box(lattice, CollisionKind::trt, Boundary::periodic, Boundary::free_slip, Boundary::no_slip);
       cfg.nx = 8, cfg.ny = 7, cfg.nz = 6;

@@ -137,14 +137,14 @@ TEST(HaloObstacle, BlocksWithABodyStepAndShiftBitForBitAsTheUnsplitLattice) {
   const std::vector<Shift> shifts = {{7, 2, 1}, {12, 2, -1}, {19, 0, 1}, {26, 1, -1}, {33, 2, 1}, {40, 0, -1}};
   const std::vector<std::array<int, 3>> splits = {{1, 1, 2}, {2, 1, 1}, {1, 2, 2}, {1, 1, 3}, {2, 2, 2}};
   // The check must cover links whose third value another block holds, on every split; the linear
-  // rule asks for none.
+  // rules ask for none.
   std::map<std::array<int, 3>, std::size_t> far_asked;
   std::size_t linear_asked = 0;
   for (const auto& [lattice, precision] :
        {std::pair{LatticeKind::D3Q19, Precision::float64}, std::pair{LatticeKind::D3Q27, Precision::float32}}) {
     for (const FaceSet& faces : halo::face_sets()) {
       for (const auto& blocks : splits) {
-        for (const WallRule rule : {WallRule::bouzidi, WallRule::quadratic}) {
+        for (const WallRule rule : {WallRule::bouzidi, WallRule::quadratic, WallRule::central_linear}) {
           SCOPED_TRACE(std::string(faces.name) + ", " + to_string(lattice) + " " + to_string(precision) + ", " +
                        to_string(rule) + ", blocks " + std::to_string(blocks[0]) + " x " + std::to_string(blocks[1]) +
                        " x " + std::to_string(blocks[2]));
