@@ -79,7 +79,7 @@ TEST(FreeSettling, SphereReachesTheStandardDragCurveAndStaysSymmetric) {
   // The terminal velocity against the standard drag curve of Clift, Grace and Weber (1978) as
   // `settle predict` solves it for this sphere (summary.json carries its ratio to the run). The
   // CI criterion is 10%. Expected deviation: the drag error of 8 cells per diameter
-  // (towed sphere, Re = 20: C_D +6.9% at 8 cells, docs/coupling.md, i.e. about -3.4% in U) and
+  // (towed sphere, Re = 20: C_D +6.9% at 8 cells, docs/validation.md, i.e. about -3.4% in U) and
   // the confinement of the 8 d box (a few %); measured -4.5% (and -7.1% from Schiller-Naumann).
   double clift_ratio = 0.0;
   for (const auto& law : summary["correlations"])

@@ -214,7 +214,7 @@ TEST(CouplingLightBody, SphereReleasedFromRestTakesTheAddedMassAccelerationAndSt
   // 6.9 steps here), during which it resists less than an incompressible fluid. From then on the
   // Basset-Boussinesq-Oseen speed applies. Tolerance: the resolution error of the 8-cell sphere, whose
   // diffuse interface makes it hydrodynamically larger (added mass ~ r^3, history force ~ r^2; the
-  // Stokes drag of the periodic array is +5% at 8 cells, docs/coupling.md): in the full-size domain of
+  // Stokes drag of the periodic array is +5% at 8 cells, docs/validation.md): in the full-size domain of
   // cases/cube.toml v / v_BBO at t = 6 ms was 0.89, 0.97 and 1.00 at 8, 12 and 16 cells. 15% takes
   // the 8-cell error with room for the smaller domain's walls (free-slip sides 2 d from the axis).
   const double radius_cells = 0.5 * sim.setup().cells_per_diameter;

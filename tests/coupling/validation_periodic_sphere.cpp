@@ -30,7 +30,7 @@ void check(int box_cells, double cells_per_diameter = 24.0) {
 
 TEST(PeriodicSphereArrayValidation, DilutePhi0065At24CellsPerDiameter) { check(48); }
 TEST(PeriodicSphereArrayValidation, ModeratePhi0155At24CellsPerDiameter) { check(36); }
-// The finest point of the grid-convergence series 8, 12, 16, 24, 32 (docs/coupling.md).
+// The finest point of the grid-convergence series 8, 12, 16, 24, 32 (docs/validation.md).
 TEST(PeriodicSphereArrayValidation, DilutePhi0065At32CellsPerDiameter) { check(64, 32.0); }
 
 }  // namespace
