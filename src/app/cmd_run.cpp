@@ -28,6 +28,7 @@
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
 #include "app/console.hpp"
+#include "app/earlier_run.hpp"
 #include "app/output_values.hpp"
 #include "app/run_checkpoints.hpp"
 #include "app/run_directory_lock.hpp"
@@ -78,17 +79,34 @@ void check_flags(const RunOptions& options) {
     throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
 }
 
+// The earlier run's files in DIR that this run replaces or removes, all recognised as settle's
+// (app/earlier_run.hpp); read-only, so that the preflight can refuse before anything changes.
+EarlierRun survey_run_directory(const fs::path& dir, bool restarted, const io::CaseValues& values) {
+  if (restarted) return survey_restarted_run(dir);
+  return survey_earlier_run(dir, values.has("particle.file") ? mesh_copy_name(values.string("particle.file")) : "");
+}
+
+// Without -o the results go to runs/<case name>, the case file's name without its extension:
+// "...toml" leaves "..", which would put them in the current directory (and "..toml", ".", in
+// runs/ itself).
+void check_results_folder_name(const std::string& name, const fs::path& case_path) {
+  if (!name.empty() && name != "." && name != "..") return;
+  throw InputError(
+      fmt::format("{}: the case's name (its file name without .toml) is \"{}\", which cannot name the results "
+                  "folder runs/<case name>; rename the case file or give -o DIR",
+                  case_path.string(), name));
+}
+
 // Called only after every check passed and the grid is allocated (file comment).
-// Creates the directory and takes its lock before anything in it changes.
-std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir) {
+// Creates the directory and takes its lock before anything in it changes; the survey is made
+// again under the lock (another process may have written DIR since the preflight's).
+std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir, bool restarted,
+                                                           const io::CaseValues& values) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
   auto lock = std::make_unique<RunDirectoryLock>(dir);
-  fs::remove(dir / "summary.json", error);
-  if (error)
-    throw InputError(
-        fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(), error.message()));
+  remove_earlier_run(survey_run_directory(dir, restarted, values));
   return lock;
 }
 
@@ -99,7 +117,7 @@ io::CaseValues with_mesh_copied_into(const io::CaseValues& values, const fs::pat
   io::CaseValues resolved = values;
   if (!values.has("particle.file")) return resolved;
   const fs::path source = case_base / values.string("particle.file");
-  const fs::path copy_name = "particle_mesh" + source.extension().string();
+  const fs::path copy_name = mesh_copy_name(source);
   std::error_code error;
   if (!fs::equivalent(source, dir / copy_name, error)) {
     fs::copy_file(source, dir / copy_name, fs::copy_options::overwrite_existing, error);
@@ -129,7 +147,7 @@ std::string derived_block(const coupling::Simulation& sim) {
   const auto& d = sim.derived();
   const auto& p = sim.plan();
   return fmt::format(
-      "\n# [derived] chosen by settle run (not read back):\n"
+      "\n{} (not read back):\n"
       "# dx = {:.9g}  # m, d_eq / cells_per_diameter\n"
       "# dt = {:.9g}  # s\n"
       "# tau = {:.9g}\n"
@@ -141,8 +159,9 @@ std::string derived_block(const coupling::Simulation& sim) {
       "# galileo = {:.6g}\n"
       "# markers = {}\n"
       "# marker_retraction = {:.9g}  # cells\n",
-      p.units.dx_si(), p.units.dt_si(), p.units.tau(), d.cells[0], d.cells[1], d.cells[2], p.equivalent_diameter_si,
-      p.expected_speed_si, p.mach, p.reynolds, p.galileo, d.marker_count, sim.setup().marker_retraction_cells);
+      kDerivedBlockTitle, p.units.dx_si(), p.units.dt_si(), p.units.tau(), d.cells[0], d.cells[1], d.cells[2],
+      p.equivalent_diameter_si, p.expected_speed_si, p.mach, p.reynolds, p.galileo, d.marker_count,
+      sim.setup().marker_retraction_cells);
 }
 
 // What the run itself reports: the case, the converter's numbers, the loop's figures and timing.
@@ -375,6 +394,7 @@ void run_case(const RunOptions& options) {
   const fs::path case_path = options.case_file;
   const io::CaseValues values = restart ? restart->case_values() : io::load_case(case_path, options.overrides);
   const std::string name = restart ? restart->case_name() : case_path.empty() ? "default" : case_path.stem().string();
+  if (!restart && options.output_dir.empty()) check_results_folder_name(name, case_path);
   const fs::path base = restart             ? restart->run_dir()
                         : case_path.empty() ? fs::current_path()
                                             : fs::absolute(case_path).parent_path();
@@ -405,6 +425,7 @@ void run_case(const RunOptions& options) {
     console.warning(*advice);
     warnings.push_back(*advice);
   }
+  survey_run_directory(dir, restart.has_value(), values);  // refuses before anything is touched
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
   if (options.dry_run) {
     if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -434,11 +455,10 @@ void run_case(const RunOptions& options) {
   std::exception_ptr failed;
   if (lead) {
     try {
-      lock = prepare_output_directory(dir);
+      lock = prepare_output_directory(dir, restart.has_value(), values);
       resolved_case = restart ? restart->resolved_case()
                               : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
       write_file_atomically(dir / "case.resolved.toml", resolved_case);
-      if (!restart) remove_earlier_checkpoint(dir);
       timeseries.emplace(restart
                              ? io::TimeseriesWriter::continue_at(dir / "timeseries.csv", restart->timeseries_bytes())
                              : io::TimeseriesWriter(dir / "timeseries.csv"));

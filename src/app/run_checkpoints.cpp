@@ -206,17 +206,6 @@ void check_restart_flags(const std::string& restart_dir, const std::string& case
                                  output_dir, why, restart_dir));
 }
 
-void remove_earlier_checkpoint(const fs::path& run_dir) {
-  const fs::path checkpoint = run_dir / kCheckpointFileName;
-  for (const fs::path& file : {checkpoint, run_dir / (std::string(kCheckpointFileName) + ".tmp"),
-                               coupling::checkpoint_parts_directory(checkpoint)}) {
-    std::error_code error;
-    fs::remove_all(file, error);
-    if (error)
-      throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", file.string(), error.message()));
-  }
-}
-
 std::optional<std::string> missing_checkpoint_advice(double checkpoint_interval_si, double checkpoint_wall_interval_s,
                                                      double cell_updates) {
   if (checkpoint_interval_si > 0.0 || checkpoint_wall_interval_s > 0.0 || cell_updates < kLongRunCellUpdates)

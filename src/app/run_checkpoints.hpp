@@ -51,11 +51,6 @@ inline constexpr const char* kRestartExtendableKey = "run.end_time";
 void check_restart_flags(const std::string& restart_dir, const std::string& case_file,
                          const std::vector<std::string>& overrides, const std::string& output_dir);
 
-/// A fresh run into DIR removes an earlier run's DIR/checkpoint.bin (and its .tmp): restarting from
-/// it would cut the new timeseries.csv to the old run's length. settle::InputError naming the file
-/// when it cannot be removed.
-void remove_earlier_checkpoint(const std::filesystem::path& run_dir);
-
 /// A warning for a long run that keeps no checkpoint (run.checkpoint_interval and
 /// run.checkpoint_wall_interval both 0): once it has ended, `settle run --restart DIR --set
 /// run.end_time=T` has nothing to continue from, and a crash loses the whole run. Empty when

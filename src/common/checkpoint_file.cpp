@@ -41,8 +41,6 @@ constexpr CrcTables make_crc_tables() {
 }
 constexpr CrcTables kCrcTables = make_crc_tables();
 
-std::string system_error_text() { return std::strerror(errno); }
-
 class FileDescriptor {
  public:
   explicit FileDescriptor(int fd) : fd_(fd) {}
@@ -148,6 +146,10 @@ void CheckpointWriter::write(const std::filesystem::path& file) const {
   } catch (const InputError& e) {
     throw CheckpointError(fmt::format("cannot write the checkpoint: {}", e.what()));
   }
+}
+
+bool is_checkpoint_file(const std::filesystem::path& file, bool cut_allowed) {
+  return file_starts_with(file, std::string_view(kMagic.data(), kMagic.size()), cut_allowed);
 }
 
 // ---------------------------------------------------------------- reading

@@ -80,6 +80,11 @@ class CheckpointWriter {
   std::vector<Section> sections_;
 };
 
+/// True when `file` is a regular file that starts with a checkpoint's signature (SETTLECK); with
+/// `cut_allowed` also when it is a shorter prefix of it (a <file>.tmp cut off before its header
+/// was written). How a fresh run recognises a checkpoint of an earlier run before removing it.
+bool is_checkpoint_file(const std::filesystem::path& file, bool cut_allowed = false);
+
 /// A checkpoint file opened and verified. Move-only: the sections are views into its mapping.
 class CheckpointFile {
  public:

@@ -487,16 +487,83 @@ TEST_F(MalformedInput, ARefusedRunDoesNotCreateItsOutputDirectory) {
 }
 
 TEST_F(MalformedInput, AStaleSummaryDoesNotSurviveARunThatFailsAfterItsChecks) {
-  // An earlier run's summary.json, and a folder where timeseries.csv must go: every check passes,
-  // the run starts writing, then cannot open timeseries.csv. summary.json marks a finished run
-  // (cmd_run.cpp), so the stale one must be gone rather than sit beside the new files.
-  std::ofstream(results_ / "summary.json") << "{\"steps\": 1}\n";
-  fs::create_directory(results_ / "timeseries.csv");
+  // An earlier run's summary.json, and a folder where the temporary of case.resolved.toml must go
+  // (a folder, so not a file of settle's it may replace): every check passes, the run starts
+  // writing, then cannot write case.resolved.toml. summary.json marks a finished run (cmd_run.cpp),
+  // so the stale one must be gone rather than sit beside the new files.
+  std::ofstream(results_ / "summary.json") << "{\"case\": \"case\", \"steps\": 1, \"stop_reason\": \"end_time\"}\n";
+  fs::create_directory(results_ / "case.resolved.toml.tmp");
   const CliResult r = run_case("--threads 1");
   EXPECT_EQ(r.status, 2) << r.err;
-  EXPECT_NE(r.err.find("timeseries.csv"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("case.resolved.toml"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(results_ / "summary.json"));
   EXPECT_TRUE(fs::exists(results_ / "sentinel.txt"));
+}
+
+// ---- promise 1: nothing the user wrote is ever deleted (docs/errors.md, "Promises") -------------
+// A fresh run replaces or removes only the files an earlier settle run left, recognised by their
+// format (app/earlier_run.hpp); a file or folder of the user's under one of the names a run writes
+// is a refusal, with the results directory untouched.
+
+TEST_F(MalformedInput, AFolderNamedLikeTheCheckpointIsRefusedNotDeleted) {
+  fs::create_directories(results_ / "checkpoint.bin" / "deep");
+  std::ofstream(results_ / "checkpoint.bin" / "notes.txt") << "precious\n";
+  std::ofstream(results_ / "checkpoint.bin" / "deep" / "precious") << "precious\n";
+  before_ = listing(results_);
+  expect_refused(run_case("--threads 1"), {"-o", "checkpoint.bin", "not a settle checkpoint"});
+}
+
+TEST_F(MalformedInput, AFileOfTheUsersAmongTheCheckpointPartsIsRefusedNotDeleted) {
+  fs::create_directories(results_ / "checkpoint.bin.parts" / "mydata");
+  std::ofstream(results_ / "checkpoint.bin.parts" / "mydata" / "precious") << "precious\n";
+  before_ = listing(results_);
+  expect_refused(run_case("--threads 1"), {"-o", "checkpoint.bin.parts/mydata", "not a part of a settle checkpoint"});
+}
+
+TEST_F(MalformedInput, ASummaryJsonOfTheUsersIsRefusedNotDeleted) {
+  std::ofstream(results_ / "summary.json") << "my own notes, not JSON\n";
+  before_ = listing(results_);
+  expect_refused(run_case("--threads 1"), {"-o", "summary.json", "not a summary settle run wrote"});
+}
+
+TEST_F(MalformedInput, ATimeSeriesOfTheUsersIsRefusedNotOverwritten) {
+  std::ofstream(results_ / "timeseries.csv") << "time,height\n0,1\n";
+  before_ = listing(results_);
+  expect_refused(run_case("--threads 1"), {"-o", "timeseries.csv", "not a time series settle run wrote"});
+}
+
+TEST_F(MalformedInput, ACaseNamedDotDotIsRefusedWithoutOutputDirectory) {
+  // "...toml" leaves the case name "..": without -o its results would go to runs/.., the current
+  // directory, whose summary.json (here the user's) a run removes.
+  const fs::path work = root_ / "work";
+  fs::create_directories(work);
+  fs::copy_file(case_path(), work / "...toml");
+  std::ofstream(work / "summary.json") << "keep\n";
+  const Listing work_before = listing(work);
+  const CliResult r = settle::test::run_settle("run", "...toml --threads 1", work);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("...toml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("-o DIR"), std::string::npos) << r.err;
+  EXPECT_EQ(listing(work), work_before) << r.err;
+  EXPECT_FALSE(fs::exists(work / "runs"));
+}
+
+TEST_F(MalformedInput, AFreshRunRemovesTheEarlierRunsFilesAndKeepsTheUsers) {
+  // The first run writes VTK frames and a checkpoint; the second, shorter and without VTK, must
+  // leave none of them (a stale vtk/fluid.pvd would list frames of the other run), but keep the
+  // user's files, also the one inside vtk/.
+  ASSERT_EQ(run_case("--threads 1 --set run.vtk_interval=5e-4 --set run.checkpoint_interval=5e-4").status, 0);
+  ASSERT_TRUE(fs::exists(results_ / "vtk" / "fluid.pvd"));
+  ASSERT_TRUE(fs::exists(results_ / "checkpoint.bin"));
+  std::ofstream(results_ / "vtk" / "notes.txt") << "my notes on the frames\n";
+  const CliResult r = run_case("--threads 1 --set run.end_time=5e-4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(results_ / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(results_ / "vtk" / "fluid.pvd"));
+  EXPECT_FALSE(fs::exists(results_ / "vtk" / "fluid_000000.vti"));
+  EXPECT_TRUE(fs::exists(results_ / "vtk" / "notes.txt"));
+  EXPECT_TRUE(fs::exists(results_ / "sentinel.txt"));
+  EXPECT_TRUE(fs::exists(results_ / "summary.json"));
 }
 
 // ---- positive controls: the valid case and its neighbours run ------------------------------------
