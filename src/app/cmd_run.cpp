@@ -407,6 +407,7 @@ void run_case(const RunOptions& options) {
                   : options.verbose ? Verbosity::verbose
                                     : Verbosity::normal);
   std::vector<std::string> warnings = io::unsupported_key_warnings(values);
+  if (restart) warnings.insert(warnings.end(), restart->warnings().begin(), restart->warnings().end());
   for (const auto& w : warnings) console.warning(w);
 
   coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
@@ -451,13 +452,20 @@ void run_case(const RunOptions& options) {
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
   std::unique_ptr<RunDirectoryLock> lock;
   std::string resolved_case;
+  std::vector<InputFileFingerprint> inputs;  // the files a restart reads again
   std::optional<io::TimeseriesWriter> timeseries;
   std::exception_ptr failed;
   if (lead) {
     try {
       lock = prepare_output_directory(dir, restart.has_value(), values);
-      resolved_case = restart ? restart->resolved_case()
-                              : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
+      if (restart) {
+        resolved_case = restart->resolved_case();
+        inputs = restart->inputs();
+      } else {
+        const io::CaseValues resolved = with_mesh_copied_into(values, base, dir);
+        resolved_case = io::write_resolved_toml(resolved) + derived_block(sim);
+        inputs = input_files_of(resolved, dir);
+      }
       write_file_atomically(dir / "case.resolved.toml", resolved_case);
       timeseries.emplace(restart
                              ? io::TimeseriesWriter::continue_at(dir / "timeseries.csv", restart->timeseries_bytes())
@@ -496,7 +504,8 @@ void run_case(const RunOptions& options) {
     if (restart) vtk->resume(restart->vtk(), restart->time_si());
     callbacks.after_step = [&vtk](double t_si, double dt_si) { vtk->after_step(t_si, dt_si); };
   }
-  const RunCheckpoints checkpoints(dir, resolved_case, name);
+  RunCheckpoints checkpoints(dir, resolved_case, name, std::move(inputs),
+                             restart ? restart->series() : SeriesChecksum{});
   callbacks.checkpoint_interval_si = values.real("run.checkpoint_interval");
   callbacks.checkpoint_wall_interval_s = values.real("run.checkpoint_wall_interval");
   callbacks.checkpoint_due = [&](const coupling::RunStart& loop) {
