@@ -411,6 +411,7 @@ void run_case(const RunOptions& options) {
   for (const auto& w : warnings) console.warning(w);
 
   coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
+  for (const std::string& note : setup.shape->notes()) console.info(note);  // a mesh reversed, its shells
   const fs::path dir = restart                      ? restart->run_dir()
                        : options.output_dir.empty() ? fs::path("runs") / name
                                                     : fs::path(options.output_dir);
