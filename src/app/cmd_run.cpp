@@ -354,11 +354,15 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
   for (const auto& [name, seconds] : sim.timers().entries())
     console.info(fmt::format("  {:<20} {:8.2f} s  {:5.1f}%", name, seconds,
                              result.wall_seconds > 0.0 ? 100.0 * seconds / result.wall_seconds : 0.0));
-  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime"))
-    console.info(fmt::format(
-        "settling at {:.5g} m/s, Re = {:.4g}, C_D = {:.4g}, regime {}",
-        summary_document["terminal_vertical_velocity"].get<double>(), summary_document["reynolds"].get<double>(),
-        summary_document["drag_coefficient"].get<double>(), summary_document["regime"].get<std::string>()));
+  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime")) {
+    // No drag coefficient (null) for a body in wall contact over the averaging window.
+    const nlohmann::json& drag = summary_document["drag_coefficient"];
+    console.info(fmt::format("settling at {:.5g} m/s, Re = {:.4g}, C_D = {}, regime {}",
+                             summary_document["terminal_vertical_velocity"].get<double>(),
+                             summary_document["reynolds"].get<double>(),
+                             drag.is_number() ? fmt::format("{:.4g}", drag.get<double>()) : "none (wall contact)",
+                             summary_document["regime"].get<std::string>()));
+  }
   console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps, result.wall_seconds,
                            result.mlups, result.stop_reason, dir.string()));
 }
