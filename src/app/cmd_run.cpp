@@ -29,6 +29,7 @@
 #include "app/commands.hpp"
 #include "app/console.hpp"
 #include "app/earlier_run.hpp"
+#include "app/flag_values.hpp"
 #include "app/output_values.hpp"
 #include "app/run_checkpoints.hpp"
 #include "app/run_directory_lock.hpp"
@@ -70,8 +71,7 @@ struct RunOptions {
 };
 
 void check_flags(const RunOptions& options) {
-  if (options.threads < 0)
-    throw InputError(fmt::format("--threads: must be >= 1 (or 0 for OpenMP's default), got {}", options.threads));
+  check_thread_count(options.threads, "--threads");
   if (options.quiet && options.verbose) throw InputError("--quiet and --verbose: choose one");
   if (options.dry_run && !options.restart_dir.empty())
     throw InputError("--dry-run: plans a case file, not a continued run; leave out --restart");

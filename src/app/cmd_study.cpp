@@ -14,6 +14,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.hpp"
+#include "app/flag_values.hpp"
 #include "app/python_child.hpp"
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
@@ -89,7 +90,7 @@ void print_plan(const std::vector<study::StudyCase>& cases) {
 
 void run_study_command(const StudyRunOptions& o) {
   if (o.jobs < 1) throw InputError(fmt::format("--jobs: {} is not >= 1", o.jobs));
-  if (o.threads < 0) throw InputError(fmt::format("--threads: {} is not >= 1", o.threads));
+  check_thread_count(o.threads, "--threads");
   if (!o.emit.empty() && o.emit != "slurm") throw InputError(fmt::format("--emit: \"{}\" is not slurm", o.emit));
   const study::StudySpec spec = study::read_study(o.study_file);
   const std::vector<study::StudyCase> cases = study::expand(spec);  // every case checked before anything runs
@@ -129,6 +130,7 @@ void run_study_command(const StudyRunOptions& o) {
 }
 
 void task_command(const StudyTaskOptions& o) {
+  check_thread_count(o.threads, "--threads");
   study::RunnerOptions runner{this_executable(), 1, o.threads, 30.0, {}};
   const int status = study::run_study_case(o.dir, o.index, runner);
   if (status != 0) std::exit(status);

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/atomic_file.hpp"
+#include "common/stop_signals.hpp"
 #include "io/case_schema.hpp"
 
 namespace settle::app {
@@ -127,12 +128,6 @@ void on_stop_signal(int signal_number) {
   // ignored: the run stops at the end of the current step anyway.
   int none = 0;
   g_stop_signal.compare_exchange_strong(none, signal_number);
-}
-
-std::string signal_name(int signal_number) {
-  if (signal_number == SIGINT) return "SIGINT";
-  if (signal_number == SIGTERM) return "SIGTERM";
-  return fmt::format("signal {}", signal_number);
 }
 
 std::vector<std::byte> interval_record(const coupling::IntervalSums& sums) {
@@ -333,7 +328,7 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
   if (!fs::exists(file_, error))
     throw CheckpointError(
         fmt::format("{}: no checkpoint to restart from (settle run writes one every "
-                    "run.checkpoint_interval and when SIGINT or SIGTERM stops it)",
+                    "run.checkpoint_interval and when a signal such as SIGINT, SIGTERM or SIGHUP stops it)",
                     file_.string()));
   try {
     checkpoint_.emplace(file_);
@@ -454,13 +449,11 @@ InterruptSignals::InterruptSignals() {
   sigemptyset(&action.sa_mask);
   // Restart interrupted system calls (file writes): the loop polls the flag between steps.
   action.sa_flags = SA_RESTART;
-  sigaction(SIGINT, &action, &previous_int_);
-  sigaction(SIGTERM, &action, &previous_term_);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &action, &previous_[i]);
 }
 
 InterruptSignals::~InterruptSignals() {
-  sigaction(SIGINT, &previous_int_, nullptr);
-  sigaction(SIGTERM, &previous_term_, nullptr);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &previous_[i], nullptr);
 }
 
 bool InterruptSignals::raised() const { return g_stop_signal.load(std::memory_order_relaxed) != 0; }
@@ -470,10 +463,11 @@ int InterruptSignals::signal_number_seen_by_any(parallel::Communicator& ranks) c
   // mpirun passes a signal on to its ranks at different moments, and the run loop stops them all
   // when one has it: the ranks that had not yet seen it must still name it (and exit with its status).
   const int mine = signal_number();
-  const std::vector<double> seen =
-      parallel::sum_in_rank_order(ranks, {mine == SIGINT ? 1.0 : 0.0, mine == SIGTERM ? 1.0 : 0.0});
-  if (seen[0] > 0.0) return SIGINT;
-  if (seen[1] > 0.0) return SIGTERM;
+  std::vector<double> seen_here;
+  for (const int s : kStopSignals) seen_here.push_back(mine == s ? 1.0 : 0.0);
+  const std::vector<double> seen = parallel::sum_in_rank_order(ranks, seen_here);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i)
+    if (seen[i] > 0.0) return kStopSignals[i];
   return mine;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Checkpoints of `settle run` (docs/checkpoints.md): DIR/checkpoint.bin every run.checkpoint_interval
-// of simulated time and when SIGINT or SIGTERM stops the run, and `settle run --restart DIR`, which
+// of simulated time and when a stop signal (SIGINT, SIGTERM, SIGHUP, ...) stops the run, and `settle run --restart DIR`, which
 // continues the run in DIR from it as if it had never stopped.
 //
 // A checkpoint holds the simulation (coupling/checkpoint_state.hpp) and what the front end needs to
@@ -9,6 +9,7 @@
 // the wall time so far), the VTK schedule and file count, the OpenMP thread count, and the length of
 // timeseries.csv at that moment (a restart cuts the file back to it: rows written after the
 // checkpoint are written again).
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/stop_signals.hpp"
 #include "coupling/checkpoint_state.hpp"
 #include "coupling/runner.hpp"
 #include "coupling/simulation.hpp"
@@ -170,9 +172,10 @@ class RestartPoint {
   void check_fingerprint(const std::vector<std::byte>* record);
 };
 
-/// SIGINT and SIGTERM, while this object lives, only set a flag (async-signal-safe: a lock-free
-/// atomic store): the run loop polls raised() after every step and stops there. The previous
-/// handlers come back on destruction. One object at a time.
+/// The stop signals (common/stop_signals.hpp: SIGINT, SIGTERM, SIGHUP, ...), while this object
+/// lives, only set a flag (async-signal-safe: a lock-free atomic store): the run loop polls raised()
+/// after every step and stops there. The previous handlers come back on destruction. One object
+/// at a time.
 class InterruptSignals {
  public:
   InterruptSignals();
@@ -184,12 +187,11 @@ class InterruptSignals {
   /// The signal that arrived first (0: none).
   int signal_number() const;
   /// The signal that stopped a run split over `ranks`, which stop together when any of them saw
-  /// one: SIGINT if any rank saw SIGINT, else SIGTERM if any saw it, else 0. A collective call.
+  /// one: the first of kStopSignals that any rank saw, else 0. A collective call.
   int signal_number_seen_by_any(parallel::Communicator& ranks) const;
 
  private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
+  std::array<struct sigaction, kStopSignals.size()> previous_{};
 };
 
 /// The settle::RunInterrupted for a run that `signal_number` stopped after writing `checkpoint`: the

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -16,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/stop_signals.hpp"
 #include "study/study_directory.hpp"
 
 extern char** environ;
@@ -30,7 +32,8 @@ std::atomic<int> g_stop_signal{0};
 
 extern "C" void on_stop_signal(int signal_number) { g_stop_signal = signal_number; }
 
-// SIGINT and SIGTERM set a flag for the loop while run_study runs; the old handlers come back after.
+// The stop signals (common/stop_signals.hpp: SIGINT, SIGTERM, SIGHUP, ...) set a flag for the loop
+// while run_study runs; the old handlers come back after.
 class StopSignals {
  public:
   StopSignals() {
@@ -38,20 +41,17 @@ class StopSignals {
     struct sigaction action {};
     action.sa_handler = on_stop_signal;
     sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, &previous_int_);
-    sigaction(SIGTERM, &action, &previous_term_);
+    for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &action, &previous_[i]);
   }
   ~StopSignals() {
-    sigaction(SIGINT, &previous_int_, nullptr);
-    sigaction(SIGTERM, &previous_term_, nullptr);
+    for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &previous_[i], nullptr);
   }
   StopSignals(const StopSignals&) = delete;
   StopSignals& operator=(const StopSignals&) = delete;
   static bool raised() { return g_stop_signal != 0; }
 
  private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
+  std::array<struct sigaction, kStopSignals.size()> previous_{};
 };
 
 // settle run's arguments for a case: from the checkpoint an earlier attempt left, else afresh.
@@ -69,7 +69,7 @@ std::vector<std::string> run_arguments(const fs::path& case_dir, const RunnerOpt
           threads};
 }
 
-// Starts a case's run with its console appended to run.log; the child keeps SIGINT and SIGTERM at
+// Starts a case's run with its console appended to run.log; the child keeps the stop signals at
 // their defaults (settle run installs its own), whatever this process does with them.
 pid_t spawn_case(const fs::path& case_dir, const RunnerOptions& options) {
   const std::vector<std::string> arguments = run_arguments(case_dir, options);
@@ -85,8 +85,7 @@ pid_t spawn_case(const fs::path& case_dir, const RunnerOptions& options) {
   posix_spawnattr_init(&attributes);
   sigset_t defaults;
   sigemptyset(&defaults);
-  sigaddset(&defaults, SIGINT);
-  sigaddset(&defaults, SIGTERM);
+  for (const int signal_number : kStopSignals) sigaddset(&defaults, signal_number);
   posix_spawnattr_setsigdefault(&attributes, &defaults);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
   pid_t pid = 0;

@@ -455,6 +455,11 @@ TEST_F(MalformedInput, SetTwoValuesAtOnce) {
 
 TEST_F(MalformedInput, NegativeThreadCount) { expect_refused_set("--threads -2", {"--threads"}); }
 
+TEST_F(MalformedInput, ThreadCountBeyondWhatOpenMpCanCreate) {
+  // 100 000 threads crashed libgomp (SIGSEGV) after the results directory was prepared.
+  expect_refused_set("--threads 100000", {"--threads", "100000"});
+}
+
 TEST_F(MalformedInput, NegativeMemoryBudget) { expect_refused_set("--max-memory -1", {"--max-memory"}); }
 
 TEST_F(MalformedInput, OutputPathIsAFile) {
@@ -564,6 +569,25 @@ TEST_F(MalformedInput, AFreshRunRemovesTheEarlierRunsFilesAndKeepsTheUsers) {
   EXPECT_TRUE(fs::exists(results_ / "vtk" / "notes.txt"));
   EXPECT_TRUE(fs::exists(results_ / "sentinel.txt"));
   EXPECT_TRUE(fs::exists(results_ / "summary.json"));
+}
+
+// ---- promise 4: no signal ends a run without a message -------------------------------------------
+// (SIGINT, SIGTERM, SIGHUP: tests/app/test_restart_cli.cpp, with the continuation.)
+
+TEST_F(MalformedInput, AFileSizeLimitIsReportedNotASilentDeath) {
+  // ulimit -f (100 or 200 KiB: the shell's blocks are 512 or 1024 bytes) lets the time series and
+  // the resolved case through, not the 7.5 MB checkpoint: SIGXFSZ killed the run (status 153, no
+  // message, a checkpoint.bin.tmp left). Ignored, the write fails with EFBIG and is reported as a
+  // full disk is: status 2, the file and the reason named, the temporary removed.
+  const CliResult r = settle::test::run_settle(
+      "run", case_path().string() + " -o " + results_.string() + " --threads 1 --set run.checkpoint_interval=5e-4", {},
+      "ulimit -f 200; ");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("checkpoint"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(results_ / "checkpoint.bin.tmp"));
+  EXPECT_FALSE(fs::exists(results_ / "summary.json"));
+  EXPECT_TRUE(fs::exists(results_ / "sentinel.txt"));
 }
 
 // ---- positive controls: the valid case and its neighbours run ------------------------------------

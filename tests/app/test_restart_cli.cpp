@@ -271,6 +271,32 @@ TEST_F(RestartCli, InterruptedRunExits130WithACheckpoint) {
   fs::remove(scratch("restart_int.err"));
 }
 
+// SIGHUP (an ssh connection or terminal that went away) stops the run as SIGTERM does: a
+// checkpoint, a message, status 129, and a restart that continues to the uninterrupted result. It
+// used to end the run at once, without either.
+TEST_F(RestartCli, HangupStopsTheRunWithACheckpoint) {
+  const fs::path dir = scratch("restart_hup");
+  const fs::path err = scratch("restart_hup.err");
+  std::vector<std::string> arguments{"-o", dir.string()};
+  arguments.insert(arguments.end(), kCase.begin(), kCase.end());
+  Background run(arguments, err);
+  const bool ready = wait_until(run, [&] {
+    const std::vector<double> times = row_times(dir / "timeseries.csv");
+    return !times.empty() && times.back() > 0.006;  // after the first periodic checkpoint (0.005)
+  });
+  run.signal(SIGHUP);
+  const int status = run.wait();
+  ASSERT_TRUE(ready);
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 129);
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  const std::string message = read_text(err);
+  EXPECT_NE(message.find("interrupted by SIGHUP"), std::string::npos) << message;
+  EXPECT_GT(restart_and_compare(dir), 0.006);  // from the signal's checkpoint, not the periodic one
+  fs::remove_all(dir);
+  fs::remove(err);
+}
+
 // A run to 0.015 s with a checkpoint at its end, continued to 0.03 s, against the fixture's run to
 // 0.03 s with the same checkpoint interval (so that the two resolved cases may be compared whole).
 TEST_F(RestartCli, FinishedRunExtendedToALaterEndTimeWritesWhatOneLongerRunWrites) {
