@@ -53,6 +53,21 @@ void require_finite(const Eigen::Vector3d& value, std::string_view key) {
           fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1], value[2]));
 }
 
+// The rigid body needs a mass and principal moments of inertia that are normal doubles: a density
+// such as 1e-320 kg/m^3 is positive, but the mass underflows to 0 and the body cannot be built.
+void check_mass_representable(const coupling::SimulationSetup& s) {
+  const body::MassProperties m = s.shape->mass_properties(s.particle_density_si);
+  const Eigen::Vector3d& moments = m.principal.moments;
+  const auto representable = [](double x) { return std::isfinite(x) && x >= std::numeric_limits<double>::min(); };
+  if (representable(m.mass) && representable(moments.minCoeff()) && std::isfinite(moments.maxCoeff())) return;
+  throw InputError(fmt::format(
+      "particle.density: {} kg/m^3 gives the particle (volume {:.4g} m^3) a mass of {:.4g} kg and moments of "
+      "inertia from {:.4g} to {:.4g} kg m^2, which double precision cannot represent (it needs finite numbers "
+      "above {:.3g}); check particle.density and the particle's size",
+      s.particle_density_si, m.volume, m.mass, moments.minCoeff(), moments.maxCoeff(),
+      std::numeric_limits<double>::min()));
+}
+
 void check_numbers(const coupling::SimulationSetup& s) {
   if (!s.shape) throw std::invalid_argument("preflight: the set-up has no shape");
   require_positive(s.particle_density_si, "particle.density");
@@ -72,6 +87,7 @@ void check_numbers(const coupling::SimulationSetup& s) {
   require_positive(s.end_time_si, "run.end_time");
   require_finite(s.output_interval_si, "run.output_interval");
   require_positive(s.shape->equivalent_diameter(), "particle (its volume-equivalent diameter)");
+  check_mass_representable(s);
 }
 
 // ---- 2. units -----------------------------------------------------------------------------

@@ -172,6 +172,16 @@ TEST_F(MalformedInput, NegativeParticleDensity) {
   expect_refused_set("--set particle.density=-1100", {"[particle] density", "-1100"});
 }
 
+TEST_F(MalformedInput, SubnormalParticleDensity) {
+  // Positive, so the schema takes it, but the mass underflows: the preflight passed and building
+  // the body failed with an internal error (status 1).
+  expect_refused_set("--set particle.density=1e-320", {"particle.density", "1e-320", "mass"});
+}
+
+TEST_F(MalformedInput, SubnormalParticleDensityInADryRun) {
+  expect_refused_set("--set particle.density=1e-320 --dry-run", {"particle.density", "mass"});
+}
+
 TEST_F(MalformedInput, ZeroViscosity) {
   expect_refused_set("--set fluid.dynamic_viscosity=0.0", {"[fluid] dynamic_viscosity", "> 0.0"});
 }
