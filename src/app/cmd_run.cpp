@@ -544,7 +544,7 @@ void run_case(const RunOptions& options) {
 void add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* run = app.add_subcommand("run", "Run a case (without CASE: the built-in default case)");
-  run->add_option("case", options->case_file, "case file (TOML, SI units)");
+  CLI::Option* case_file = run->add_option("case", options->case_file, "case file (TOML, SI units)");
   run->add_option("-o,--output", options->output_dir, "output directory (default ./runs/<case name>)");
   run->add_option("--set", options->overrides, "override a case key, e.g. --set run.end_time=0.1 (repeatable)")
       ->take_all()
@@ -560,14 +560,23 @@ void add_run_command(CLI::App& app) {
       "--max-memory", options->max_memory_gib,
       "memory budget in GiB for the preflight check (default: MemAvailable of /proc/meminfo); a case whose estimate "
       "exceeds it is refused before anything is allocated");
-  run->callback([options, max_memory] {
+  CLI::Option* restart =
+      run->add_option("--restart", options->restart_dir,
+                      "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
+                      "SIGINT/SIGTERM); takes no case file or -o, and --set only for run.end_time (a later end)")
+          ->type_name("DIR");
+  run->callback([options, max_memory, case_file, restart] {
     options->max_memory_given = max_memory->count() > 0;
+    // An empty argument (an unset shell variable: settle run "$CASE") must not mean "none given",
+    // which runs the built-in default case (or a fresh run instead of a restart).
+    if (case_file->count() > 0 && options->case_file.empty())
+      throw InputError(
+          "CASE: the case file's path is empty (an unset shell variable?); give a case file, or leave CASE out "
+          "for the built-in default case");
+    if (restart->count() > 0 && options->restart_dir.empty())
+      throw InputError("--restart: the run directory's path is empty (an unset shell variable?)");
     run_case(*options);
   });
-  run->add_option("--restart", options->restart_dir,
-                  "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
-                  "SIGINT/SIGTERM); takes no case file or -o, and --set only for run.end_time (a later end)")
-      ->type_name("DIR");
 }
 
 }  // namespace settle::app

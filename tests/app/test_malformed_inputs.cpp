@@ -111,6 +111,15 @@ TEST_F(MalformedInput, MissingCaseFile) {
   expect_refused(run_case(""), {case_path().string(), "no such case file"});
 }
 
+TEST_F(MalformedInput, EmptyCaseArgument) {
+  // settle run "$CASE" with CASE unset: it ran the built-in default case (25 s) into -o DIR.
+  expect_refused(settle::test::run_settle("run", "'' --threads 1 -o " + results_.string()), {"CASE", "empty"});
+}
+
+TEST_F(MalformedInput, EmptyRestartArgument) {
+  expect_refused(settle::test::run_settle("run", "--restart '' --threads 1"), {"--restart", "empty"});
+}
+
 TEST_F(MalformedInput, CaseFileIsADirectory) {
   fs::remove(case_path());
   fs::create_directory(case_path());
