@@ -53,6 +53,18 @@ void require_finite(const Eigen::Vector3d& value, std::string_view key) {
           fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1], value[2]));
 }
 
+// The kinematic viscosity nu = mu / rho_f sets tau and dt: a quotient that leaves double precision
+// (fluid.density = 1e308 gives 1e-311, subnormal) made the resolution check ask for "at least inf"
+// cells per diameter.
+void check_kinematic_viscosity(const coupling::SimulationSetup& s) {
+  const double nu = s.dynamic_viscosity_si / s.fluid_density_si;
+  if (std::isfinite(nu) && nu >= std::numeric_limits<double>::min()) return;
+  throw InputError(
+      fmt::format("fluid.dynamic_viscosity, fluid.density: the kinematic viscosity {} Pa s / {} kg/m^3 = {:.4g} m^2/s "
+                  "is not representable in double precision; check fluid.density and fluid.dynamic_viscosity",
+                  s.dynamic_viscosity_si, s.fluid_density_si, nu));
+}
+
 // The rigid body needs a mass and principal moments of inertia that are normal doubles: a density
 // such as 1e-320 kg/m^3 is positive, but the mass underflows to 0 and the body cannot be built.
 void check_mass_representable(const coupling::SimulationSetup& s) {
@@ -73,6 +85,7 @@ void check_numbers(const coupling::SimulationSetup& s) {
   require_positive(s.particle_density_si, "particle.density");
   require_positive(s.fluid_density_si, "fluid.density");
   require_positive(s.dynamic_viscosity_si, "fluid.dynamic_viscosity");
+  check_kinematic_viscosity(s);
   require_finite(s.gravity_si, "fluid.gravity");
   require_finite(s.body_force_si, "fluid.body_force");
   for (int a = 0; a < 3; ++a) require_positive(s.domain_size_si[a], "domain.size");
@@ -92,6 +105,12 @@ void check_numbers(const coupling::SimulationSetup& s) {
 
 // ---- 2. units -----------------------------------------------------------------------------
 
+// When the viscous bound (tau at numerics.max_tau) sets dt, a dt too small to count comes from the
+// fluid's viscosity, not from run.end_time.
+bool viscosity_sets_dt(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
+  return !s.tau && plan.units.tau() >= s.max_tau * (1.0 - 1e-9);
+}
+
 // The case's plan (coupling/case_plan.hpp, the same the Simulation is built on): it refuses what
 // the set-up and the converter refuse. A second look at the time step guards against a change
 // there that would let an unsafe dt through (and against NaN from extreme inputs).
@@ -99,6 +118,11 @@ coupling::CasePlan checked_plan(const coupling::SimulationSetup& s) {
   const coupling::CasePlan plan = coupling::plan_case(s);
   require_positive(plan.units.dt_si(),
                    "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
+  if (plan.units.dt_si() < std::numeric_limits<double>::min())
+    throw InputError(fmt::format(
+        "fluid.dynamic_viscosity, fluid.density: the time step dt = {:.4g} s (kinematic viscosity {:.4g} m^2/s) is "
+        "below the smallest normal double; check fluid.dynamic_viscosity and fluid.density",
+        plan.units.dt_si(), plan.units.kinematic_viscosity_si()));
   const double u = plan.units.velocity(plan.expected_speed_si);
   if (!(u <= s.max_lattice_velocity * (1.0 + 1e-12)))
     throw InputError(
@@ -215,12 +239,18 @@ double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_
 }
 
 double checked_steps(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
-  if (!(plan.steps <= kMaxSteps))
-    throw InputError(
-        fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
-                    "count; lower run.end_time",
-                    s.end_time_si, plan.steps, plan.units.dt_si()));
-  return std::max(1.0, plan.steps);
+  if (plan.steps <= kMaxSteps) return std::max(1.0, plan.steps);
+  // Not even a second fits in 2^53 steps of this dt (1.1e-16 s): that is the fluid's doing.
+  if (viscosity_sets_dt(s, plan) && plan.units.dt_si() * kMaxSteps < 1.0)
+    throw InputError(fmt::format(
+        "fluid.dynamic_viscosity, fluid.density: the kinematic viscosity {:.4g} m^2/s sets dt = {:.4g} s (tau at "
+        "numerics.max_tau = {}), and run.end_time = {} s is then {:.3g} steps, more than the 2^53 a run can count; "
+        "check fluid.dynamic_viscosity and fluid.density, or lower run.end_time",
+        plan.units.kinematic_viscosity_si(), plan.units.dt_si(), s.max_tau, s.end_time_si, plan.steps));
+  throw InputError(
+      fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
+                  "count; lower run.end_time",
+                  s.end_time_si, plan.steps, plan.units.dt_si()));
 }
 
 // Rows kept in RunResult::samples: one at t = 0, one per output time, and the final state.

@@ -370,6 +370,26 @@ TEST_F(MalformedInput, MoreStepsThanTimeCanCount) {
   expect_refused_set("--set run.end_time=1e14", {"run.end_time", "steps"});
 }
 
+// Extreme fluid properties: the messages named numerics.cells_per_diameter ("at least inf") or
+// run.end_time for what the fluid's numbers cause. Each must name the fluid keys.
+TEST_F(MalformedInput, KinematicViscosityBelowDoublePrecision) {
+  expect_refused_set("--set fluid.density=1e308", {"fluid.density", "fluid.dynamic_viscosity", "kinematic viscosity"});
+}
+
+TEST_F(MalformedInput, ReynoldsNumberBeyondAnyGrid) {
+  const CliResult r = run_case("--set fluid.dynamic_viscosity=1e-300");
+  expect_refused(r, {"fluid.dynamic_viscosity", "fluid.density", "beyond any grid"});
+  EXPECT_EQ(r.err.find("inf"), std::string::npos) << r.err;
+}
+
+TEST_F(MalformedInput, TimeStepBelowDoublePrecision) {
+  expect_refused_set("--set fluid.dynamic_viscosity=1e308", {"fluid.dynamic_viscosity", "fluid.density", "dt"});
+}
+
+TEST_F(MalformedInput, TimeStepTooShortToCountBecauseOfTheFluid) {
+  expect_refused_set("--set fluid.density=1e-300", {"fluid.dynamic_viscosity", "fluid.density", "2^53"});
+}
+
 TEST_F(MalformedInput, FastTowedBodyUnderResolved) {
   // Re = 5000 at 8 cells per diameter: no dt meets the Mach and tau bounds together.
   expect_refused_set("--set 'particle.motion=\"towed\"' --set 'particle.towing_velocity=[0, 0, -5]'",
