@@ -439,6 +439,24 @@ void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, 
       s, dx_si, {static_cast<int>(cells[0]), static_cast<int>(cells[1]), static_cast<int>(cells[2])});
 }
 
+void check_particle_narrower_than_domain(const coupling::SimulationSetup& s) {
+  const FaceClearance c =
+      face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(), s.domain_size_si);
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (c.width_si[a] < s.domain_size_si[static_cast<Eigen::Index>(a)]) continue;
+    // A mesh in millimetres read as metres is a thousand times too large: say so where it helps.
+    const bool mesh = s.shape->kind() == "mesh";
+    throw InputError(fmt::format(
+        "domain.size: the particle is {:.4g} m wide along {} at its initial attitude (particle.euler; its "
+        "volume-equivalent diameter is {:.4g} m) but the domain is only {:.4g} m{}; {}",
+        c.width_si[a], kAxis[a], s.shape->equivalent_diameter(), s.domain_size_si[static_cast<Eigen::Index>(a)],
+        s.boundaries[a] == lbm::Boundary::periodic ? ", and periodic: the particle would overlap its own image" : "",
+        mesh ? "if the mesh's coordinates are not in metres, set particle.scale (e.g. 0.001 for millimetres); "
+               "otherwise enlarge domain.size"
+             : fmt::format("enlarge domain.size along {}", kAxis[a])));
+  }
+}
+
 void check_net_weight(const coupling::SimulationSetup& s) {
   if (s.motion != body::MotionKind::free) return;
   const double excess_density = s.particle_density_si - s.fluid_density_si;
@@ -491,6 +509,7 @@ std::string PreflightReport::summary() const {
 
 PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOptions& options) {
   check_numbers(s);
+  check_particle_narrower_than_domain(s);
   PreflightReport r(checked_plan(s));
   check_net_weight(s);
   const double dx_si = r.plan.units.dx_si(), dt_si = r.plan.units.dt_si();

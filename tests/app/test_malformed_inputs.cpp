@@ -279,6 +279,14 @@ TEST_F(MalformedInput, MeshFileNotAnStl) {
   expect_refused_text(valid_case(mesh_lines(data_file("garbage.stl"))), {"particle.file", "not an STL file"});
 }
 
+TEST_F(MalformedInput, MeshInMillimetresReadAsMetres) {
+  // The 1 mm cube of cube_ascii.stl (coordinates 0 to 1, meant with scale = 1e-3) without its scale
+  // is 1 m wide: such a mesh was reported as a resolution to raise (796 952 cells per diameter) or
+  // a domain of 0 cells, never as a mesh in the wrong units.
+  expect_refused_text(valid_case("shape = \"mesh\"\nfile = \"" + data_file("cube_ascii.stl") + "\"\n"),
+                      {"domain.size", "1 m wide", "particle.scale"});
+}
+
 TEST_F(MalformedInput, MeshScaleZero) {
   expect_refused_text(valid_case("shape = \"mesh\"\nfile = \"" + data_file("cube_ascii.stl") + "\"\nscale = 0.0\n"),
                       {"[particle] scale"});

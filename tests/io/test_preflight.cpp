@@ -263,10 +263,16 @@ TEST(ParticleInDomain, OverlapTooWideAndOutsideAreNamed) {
 
   s = small_setup();
   s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::sphere(7.0e-3));
-  s.domain_size_si = {6.0e-3, 6.0e-3, 8.0e-3};  // 7 x 7 x 9 cells of 0.875 mm: 6.125 mm across
+  // 7.2 mm is wider than the sphere, but rounds to 8 x 8 x 9 cells of 0.875 mm: 7 mm across, the
+  // grid's faces touching it (a domain narrower than the sphere is refused before, by its size).
+  s.domain_size_si = {7.2e-3, 7.2e-3, 8.0e-3};
   e = error_of([&] { preflight(s); });
   EXPECT_TRUE(contains(e, "domain.size: the particle is 0.007 m wide along x")) << e;
-  EXPECT_TRUE(contains(e, "7 cells")) << e;
+  EXPECT_TRUE(contains(e, "8 cells")) << e;
+  s.domain_size_si = {6.0e-3, 6.0e-3, 8.0e-3};
+  e = error_of([&] { preflight(s); });
+  EXPECT_TRUE(contains(e, "domain.size: the particle is 0.007 m wide along x")) << e;
+  EXPECT_TRUE(contains(e, "the domain is only 0.006 m")) << e;
 
   s = small_setup();
   s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
