@@ -217,6 +217,23 @@ TEST_F(MalformedInput, RelaxationTimeAtTheStabilityLimit) {
   expect_refused_set("--set numerics.tau=0.5", {"[numerics] tau", "(0.501, 5.0]"});
 }
 
+TEST_F(MalformedInput, AHugeValueIsCutInTheMessage) {
+  // A 100 kB string and an array of 20 000 numbers: the message quoted each whole, on one line of
+  // stderr (10 MB for a 10 MB value). It names the key and shows the start of the value.
+  std::string text = valid_case("shape = \"" + std::string(100000, 's') + "\"\ndiameter = 1.0e-3\n");
+  CliResult r = (write_case(text), run_case(""));
+  expect_refused(r, {"[particle] shape = \"sss", "..."});
+  EXPECT_LT(r.err.size(), 1000u) << r.err.substr(0, 1000);
+  std::string numbers;
+  for (int i = 0; i < 20000; ++i) numbers += (i ? ", " : "") + std::to_string(i);
+  text = valid_case();
+  const std::string position = "position = [2.0e-3, 2.0e-3, 3.0e-3]";
+  text.replace(text.find(position), position.size(), "position = [" + numbers + "]");
+  r = (write_case(text), run_case(""));
+  expect_refused(r, {"[particle] position = [0.0, 1.0, 2.0", "..."});
+  EXPECT_LT(r.err.size(), 1000u) << r.err.substr(0, 1000);
+}
+
 // ---- shapes -------------------------------------------------------------------------------------
 
 TEST_F(MalformedInput, ZeroDiameter) { expect_refused_set("--set particle.diameter=0", {"[particle] diameter"}); }
