@@ -126,6 +126,12 @@ TEST_F(MalformedInput, CaseFileIsADirectory) {
   expect_refused(run_case(""), {"is a directory"});
 }
 
+TEST_F(MalformedInput, AnEndlessStreamAsTheCaseFile) {
+  // /dev/zero was read forever, the memory growing by 250 MB/s; now refused after 64 MiB.
+  const CliResult r = settle::test::run_settle("run", "/dev/zero --threads 1 -o " + results_.string());
+  expect_refused(r, {"/dev/zero", "not a case file"});
+}
+
 TEST_F(MalformedInput, TomlSyntaxError) {
   expect_refused_text("[fluid\ndensity = 998.2\n", {"case.toml:1", "TOML syntax error"});
 }
