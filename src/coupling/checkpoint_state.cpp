@@ -415,18 +415,24 @@ SplitRecord decode_split(std::span<const std::byte> data, const char* section) {
 
 /// Runs `action` on every rank and fails on every rank if it failed on any: a rank that went on
 /// alone would wait for the others' messages forever. The failing rank throws its own error; the
-/// others name the first rank that failed and `what` it was doing.
+/// others name the first rank that failed, `what` it was doing and its reason (rank 0 reports, and
+/// the reason is often on another rank: a part's failed CRC-32, a missing part).
 template <class Action>
 void on_every_rank(parallel::Communicator& ranks, const std::string& what, Action action) {
   std::exception_ptr failure;
+  std::optional<std::string> reason;
   try {
     action();
+  } catch (const std::exception& e) {
+    failure = std::current_exception();
+    reason = e.what();
   } catch (...) {
     failure = std::current_exception();
+    reason = "an unknown error";
   }
-  const std::optional<int> failed = parallel::first_failed_rank(ranks, failure != nullptr);
+  const std::optional<parallel::RankFailure> failed = parallel::first_failure(ranks, reason);
   if (failure) std::rethrow_exception(failure);
-  if (failed) throw CheckpointError(fmt::format("rank {} failed: {}", *failed, what));
+  if (failed) throw CheckpointError(fmt::format("rank {} failed: {}: {}", failed->rank, what, failed->message));
 }
 
 std::filesystem::path part_file(const std::filesystem::path& manifest, std::int64_t step, int rank) {
