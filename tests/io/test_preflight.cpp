@@ -481,6 +481,23 @@ TEST(WindowAdvice, ClearancesAreMeasuredAlongTheTravelFromTheCentre) {
   EXPECT_FALSE(case_clearance(s, 1.0e-3).has_value());
 }
 
+// A periodic side has no face: the body's neighbour is its image one period away, so the room is
+// half the period wherever the body sits (a periodic box is translation-invariant). A body on the
+// periodic face x = 0 was told it had 0 d_eq of room, the same body centred 2.5.
+TEST(WindowAdvice, APeriodicSideIsHalfThePeriodWhereverTheBodySits) {
+  coupling::SimulationSetup s = small_setup();  // 4 x 4 x 6 mm
+  s.motion = body::MotionKind::towed;
+  s.initial.velocity_si = {0.0, 0.0, -0.02};
+  s.follow_particle = true;
+  s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::no_slip};
+  for (const double x_si : {0.0, 0.7e-3, 2.0e-3}) {
+    s.initial.position_si = {x_si, 2.0e-3, 3.0e-3};
+    const auto c = case_clearance(s, 1.0e-3);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_NEAR(c->side_d, 2.0, 1e-12) << x_si;  // half of 4 mm, in 1 mm diameters
+  }
+}
+
 // Between the measured Reynolds numbers the need is interpolated linearly in log Re: at the
 // geometric mean of two, the mean of their clearances.
 TEST(WindowAdvice, NeedIsInterpolatedInLogReynolds) {
