@@ -641,6 +641,30 @@ TEST_F(MalformedInput, AFreshRunRemovesTheEarlierRunsFilesAndKeepsTheUsers) {
   EXPECT_TRUE(fs::exists(results_ / "summary.json"));
 }
 
+// ---- promise 2: a restart continues only the run its checkpoint belongs to ------------------------
+// (the mesh, an edited series and an older checkpoint: tests/app/test_restart_cli.cpp)
+
+TEST_F(MalformedInput, ARestartFromAnotherRunsCheckpointIsRefused) {
+  // Two runs of the valid case, the second with a denser particle; its checkpoint copied into the
+  // first one's directory used to continue it there, splicing its rows after the first one's.
+  const fs::path other = root_ / "other";
+  const std::string checkpointed = " --threads 1 --set run.checkpoint_interval=1e-3";
+  ASSERT_EQ(run_case(checkpointed).status, 0);
+  ASSERT_EQ(settle::test::run_settle(
+                "run", case_path().string() + checkpointed + " --set particle.density=1200 -o " + other.string())
+                .status,
+            0);
+  // The first run's series is the shorter (1465 bytes against 1496): its checkpoint in the second
+  // run's directory passed the length check, the only one there was.
+  ASSERT_LT(fs::file_size(results_ / "timeseries.csv"), fs::file_size(other / "timeseries.csv"));
+  fs::copy_file(results_ / "checkpoint.bin", other / "checkpoint.bin", fs::copy_options::overwrite_existing);
+  const Listing other_before = listing(other);
+  before_ = listing(results_);
+  expect_refused(settle::test::run_settle("run", "--restart " + other.string() + " --set run.end_time=2e-3"),
+                 {"checkpoint.bin", "timeseries.csv is not the time series this checkpoint belongs to"});
+  EXPECT_EQ(listing(other), other_before);
+}
+
 // ---- promise 4: no signal ends a run without a message -------------------------------------------
 // (SIGINT, SIGTERM, SIGHUP: tests/app/test_restart_cli.cpp, with the continuation.)
 
