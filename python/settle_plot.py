@@ -17,6 +17,7 @@ Only python3, numpy and matplotlib (Debian: python3-matplotlib) are needed.
 """
 
 import argparse
+import io
 import json
 import math
 import os
@@ -71,12 +72,20 @@ def read_timeseries(path):
     if not os.path.isfile(path):
         raise UserError(f"RUN_DIR: no timeseries.csv at {path} (expected a directory written by `settle run`)")
     with open(path, encoding="utf-8") as file:
-        header = file.readline().strip().split(",")
+        text = file.read()
+    lines = text.split("\n")
+    header = lines[0].strip().split(",")
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
     if missing:
         raise UserError(f"RUN_DIR: {path} lacks the columns {', '.join(missing)}")
+    rows = lines[1:]
+    # settle flushes whole rows: a last row without its newline was cut while being written (the
+    # run stopped on a full disk, or was killed), so it is left out rather than failing the table.
+    if not text.endswith("\n") and rows and rows[-1].strip():
+        note(f"warning: {path}: its last row is incomplete (the run stopped while writing it); plotted without it")
+        rows = rows[:-1]
     try:
-        values = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        values = np.loadtxt(io.StringIO("\n".join(rows)), delimiter=",", ndmin=2)
     except ValueError as error:
         raise UserError(f"RUN_DIR: {path} is not a numeric CSV table: {error}") from error
     if values.shape[0] == 0:

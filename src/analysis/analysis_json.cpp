@@ -1,5 +1,6 @@
 #include "analysis/analysis_json.hpp"
 
+#include <cmath>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -9,6 +10,10 @@ namespace {
 
 nlohmann::ordered_json optional_json(const std::optional<double>& value) {
   return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json finite_or_null(double value) {
+  return std::isfinite(value) ? nlohmann::ordered_json(value) : nlohmann::ordered_json(nullptr);
 }
 
 nlohmann::ordered_json vector_json(const Eigen::Vector3d& v) {
@@ -45,7 +50,7 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   j["terminal_velocity"] = a.terminal_speed_si;
   j["terminal_vertical_velocity"] = a.vertical_velocity_si;
   j["reynolds"] = a.reynolds;
-  j["drag_coefficient"] = a.drag_coefficient;
+  j["drag_coefficient"] = finite_or_null(a.drag_coefficient);
   j["galileo"] = a.galileo;
   j["regime"] = regime_name(a.regime.regime);
   j["regime_reason"] = a.regime.reason;
@@ -56,7 +61,8 @@ nlohmann::ordered_json to_json(const Analysis& a) {
   j["dimensionless_inertia"] = optional_json(a.dimensionless_inertia);
   j["drag_coefficient_projected_area"] = optional_json(a.drag_coefficient_projected_area);
   j["projected_area"] = optional_json(a.projected_area_si);
-  j["drag_coefficient_from_force"] = a.drag_coefficient_from_force;
+  j["drag_coefficient_from_force"] = finite_or_null(a.drag_coefficient_from_force);
+  j["wall_contact_samples"] = a.wall_contact_samples;
 
   json terminal;
   terminal["reached"] = a.terminal.reached;

@@ -398,9 +398,14 @@ LawPrediction dietrich(const SettlingConditions& c, const ParticleDescriptors& d
   checks.require(at_least(dstar, 0.05) && at_most(dstar, 5e9), fmt::format("D* = {:.4g} outside [0.05, 5e9]", dstar));
   checks.require(at_least(d.corey_shape_factor, 0.2),
                  fmt::format("Corey shape factor {:.4g} < 0.2", d.corey_shape_factor));
+  // Unsolved: either R2's logarithm has no value (a Corey factor at or below 0.15), or the fit
+  // gives no positive finite W* at this D* (an extreme fluid: D* = inf at a viscosity of 1e-300).
   conclude(p, checks,
-           fmt::format("Corey shape factor {:.4g} <= 0.15: R2 = log10(1 - (1 - CSF)/0.85) is undefined",
-                       d.corey_shape_factor));
+           d.corey_shape_factor <= 0.15
+               ? fmt::format("Corey shape factor {:.4g} <= 0.15: R2 = log10(1 - (1 - CSF)/0.85) is undefined",
+                             d.corey_shape_factor)
+               : fmt::format("no settling velocity: W* = {:.4g} at D* = {:.4g} (the fit covers 0.05 <= D* <= 5e9)",
+                             wstar, dstar));
   return p;
 }
 

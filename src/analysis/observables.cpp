@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <utility>
@@ -547,6 +548,25 @@ void sampling_warning(const SettlingSeries& series, Analysis& a) {
                   a.terminal.samples_per_window, a.criteria.min_samples_per_window));
 }
 
+// A body in contact with a wall over the averaging window (resting on the floor, or striking a
+// wall) is not settling freely: its mean velocity is no terminal velocity, and the net weight is
+// carried by the wall as well as by the drag, so the drag coefficient of the force balance would be
+// wrong (a resting sphere gave C_D = 1.7e6, and a negative one). Without contact columns (a series
+// written before they existed) nothing can be told.
+void wall_contact(const SettlingSeries& series, Analysis& a) {
+  if (series.contact_force_si.size() != series.size()) return;
+  for (std::size_t i = 0; i < series.size(); ++i)
+    if (series.t_si[i] >= a.window_start_si && !series.contact_force_si[i].isZero(0.0)) ++a.wall_contact_samples;
+  if (a.wall_contact_samples == 0) return;
+  a.drag_coefficient = a.drag_coefficient_from_force = std::numeric_limits<double>::quiet_NaN();
+  a.drag_coefficient_projected_area.reset();
+  a.warnings.push_back(fmt::format(
+      "the particle touches a wall in {} of the {} samples averaged (t = {:.4g} .. {:.4g} s): it is not settling "
+      "freely there, so its mean velocity is no terminal velocity and no drag coefficient is given; end the run "
+      "before it reaches the wall, or enlarge domain.size along its path",
+      a.wall_contact_samples, a.window_samples, a.window_start_si, a.window_end_si));
+}
+
 void choose_window(const SettlingSeries& series, Analysis& a) {
   const double t0 = series.t_si.front(), t1 = series.t_si.back();
   a.averaged_over_terminal_window = a.terminal.reached;
@@ -645,6 +665,7 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   dimensionless_groups(properties, a);
   drag(w, properties, a);
   a.mean_body_rotation_rate_si = time_mean(w.t, w.omega_b);
+  wall_contact(series, a);
   judge_motion(w, frame, properties, options.thresholds, a);
   // An oscillation dying away is the way into a regime, not the regime (a body that turned
   // broadside before its velocity settled still swings about its final attitude): judge the part

@@ -147,10 +147,13 @@ struct Analysis {
   double density_ratio = 0.0;                   ///< rho_p / rho_f
   std::optional<double> dimensionless_inertia;  ///< Field et al. 1997, disks only
 
-  // Drag.
+  // Drag (NaN, and null in the JSON, when the body touched a wall in the window: wall_contact_samples).
   double drag_coefficient = 0.0;             ///< net weight along the mean motion / (rho U^2 / 2 pi d_eq^2 / 4)
   double drag_coefficient_from_force = 0.0;  ///< mean hydrodynamic force against the mean motion, same scale
-  std::optional<double> projected_area_si;   ///< mean shadow along the mean motion
+  /// Averaged samples with a particle-wall contact force: the body rests on or strikes a wall, so
+  /// the net weight is not balanced by the drag alone and no drag coefficient is given.
+  std::size_t wall_contact_samples = 0;
+  std::optional<double> projected_area_si;                ///< mean shadow along the mean motion
   std::optional<double> drag_coefficient_projected_area;  ///< drag_coefficient on projected_area_si
   Eigen::Vector3d mean_force_si = Eigen::Vector3d::Zero();
   Eigen::Vector3d mean_torque_si = Eigen::Vector3d::Zero();

@@ -139,9 +139,11 @@ void SettlingSeries::add(double t, const Eigen::Vector3d& position, const Eigen:
 SettlingSeries SettlingSeries::since(double t0_si) const {
   SettlingSeries out;
   for (std::size_t k = 0; k < size(); ++k)
-    if (t_si[k] >= released_from(t0_si))
+    if (t_si[k] >= released_from(t0_si)) {
       out.add(t_si[k], position_si[k], velocity_si[k], angular_velocity_n_si[k], angular_velocity_b_si[k],
               body_to_inertial[k], force_si[k], torque_si[k]);
+      if (!contact_force_si.empty()) out.contact_force_si.push_back(contact_force_si[k]);
+    }
   return out;
 }
 
@@ -179,6 +181,8 @@ SettlingSeries settling_series(const Timeseries& table) {
                attitude::Attitude::from_set1(angles[0], angles[1], angles[2]).body_to_inertial(),
                vector_at(table, "Fx", "Fy", "Fz", r), vector_at(table, "Tx", "Ty", "Tz", r));
   }
+  if (table.has("Fcx") && table.has("Fcy") && table.has("Fcz"))
+    for (std::size_t r = 0; r < rows; ++r) series.contact_force_si.push_back(vector_at(table, "Fcx", "Fcy", "Fcz", r));
   return series;
 }
 
@@ -189,6 +193,7 @@ SettlingSeries settling_series(const std::vector<coupling::Sample>& samples) {
       throw std::invalid_argument("settling_series: sample times must increase");
     series.add(s.t_si, s.position_si, s.velocity_si, s.angular_velocity_n_si, s.angular_velocity_b_si,
                s.attitude.body_to_inertial(), s.hydrodynamic.force_si, s.hydrodynamic.torque_si);
+    series.contact_force_si.push_back(s.contact.force_si);
   }
   return series;
 }

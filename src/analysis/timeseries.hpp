@@ -65,6 +65,9 @@ struct SettlingSeries {
   std::vector<Eigen::Matrix3d> body_to_inertial;
   std::vector<Eigen::Vector3d> force_si;   ///< hydrodynamic force, N
   std::vector<Eigen::Vector3d> torque_si;  ///< hydrodynamic torque about the centre of mass, N m
+  /// Particle-wall contact force, N (timeseries.csv's Fcx, Fcy, Fcz): one per sample, or none when
+  /// the source has no such columns (a series written before they existed).
+  std::vector<Eigen::Vector3d> contact_force_si;
 
   [[nodiscard]] std::size_t size() const { return t_si.size(); }
   /// The samples at t >= released_from(t0_si): the free motion of a body released at t0

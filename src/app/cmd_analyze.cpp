@@ -141,9 +141,13 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
       "I* = {}\n",
       a.reynolds, a.galileo, a.archimedes, a.stokes_number, a.density_ratio,
       optional_text(a.dimensionless_inertia, "{:.4g}"));
-  out << fmt::format("  drag             C_D = {:.4g} (d_eq), {} (projected area {} m^2), {:.4g} from the mean force\n",
-                     a.drag_coefficient, optional_text(a.drag_coefficient_projected_area, "{:.4g}"),
-                     optional_text(a.projected_area_si, "{:.4g}"), a.drag_coefficient_from_force);
+  if (a.wall_contact_samples > 0)
+    out << "  drag             none: the particle touches a wall in the window (warning below)\n";
+  else
+    out << fmt::format(
+        "  drag             C_D = {:.4g} (d_eq), {} (projected area {} m^2), {:.4g} from the mean force\n",
+        a.drag_coefficient, optional_text(a.drag_coefficient_projected_area, "{:.4g}"),
+        optional_text(a.projected_area_si, "{:.4g}"), a.drag_coefficient_from_force);
   out << fmt::format("  lateral motion   amplitude {:.3g} m/s, f = {} Hz, Sr = {}\n", a.lateral_amplitude_si,
                      optional_text(a.lateral_frequency_hz, "{:.4g}"), optional_text(a.lateral_strouhal, "{:.3g}"));
   if (a.axis.kind != analysis::AxisKind::none)

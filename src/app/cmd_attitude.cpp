@@ -120,6 +120,29 @@ attitude::BodyRateSeries read_series(const std::string& path, double t_end) {
   }
 }
 
+// The energy 0.5 w.(I w) and the angular momentum |I w| the torque-free run conserves (and prints)
+// must be numbers: beyond about 1e154 rad/s they overflow, and every row after the first is NaN.
+void check_invariants_finite(const Eigen::Vector3d& inertia, const Eigen::Vector3d& omega_b) {
+  const Eigen::Vector3d momentum = inertia.cwiseProduct(omega_b);
+  const double energy = 0.5 * omega_b.dot(momentum);
+  if (std::isfinite(energy) && std::isfinite(momentum.norm())) return;
+  throw InputError(fmt::format(
+      "--omega: with --inertia {:g},{:g},{:g} the rotational energy 0.5 w.(I w) of the body rates {:g},{:g},{:g} "
+      "rad/s overflows double precision ({}); give smaller rates or moments (other units)",
+      inertia[0], inertia[1], inertia[2], omega_b[0], omega_b[1], omega_b[2], energy));
+}
+
+// A state that is no longer finite ends the run (exit status 3) before its row is written: the rows
+// before it are the run's valid part.
+void require_finite_state(double t, long step, const Eigen::Vector3d& omega_b, bool attitude_finite) {
+  if (omega_b.allFinite() && attitude_finite) return;
+  throw NumericalError(fmt::format(
+      "settle attitude: at t = {} s (step {}) the body rates or the attitude are no longer finite "
+      "(w = {:g},{:g},{:g} rad/s): the step w dt is too large for the integrator; lower --dt. The rows written "
+      "before t = {} s are valid",
+      t, step, omega_b[0], omega_b[1], omega_b[2], t));
+}
+
 AttitudeRun check(const AttitudeOptions& o) {
   AttitudeRun run;
   run.inertia = parse_inertia(o.inertia);
@@ -149,6 +172,7 @@ AttitudeRun check(const AttitudeOptions& o) {
   }
   if (!o.omega.empty()) {
     run.omega0_b = parse_vector3("--omega", o.omega);
+    check_invariants_finite(run.inertia, *run.omega0_b);
   } else {
     run.series = read_series(o.omega_file, run.t_end);
   }
@@ -253,6 +277,7 @@ RunSummary run_torque_free(const AttitudeRun& run, CsvOutput& out) {
   if (run.method == Method::dual_euler) {
     attitude::SpinState state{*run.omega0_b, start};
     for (long k = 0;; ++k) {
+      require_finite_state(schedule.time(k), k, state.omega_b, state.attitude.angles().allFinite());
       track(state.attitude.body_to_inertial(), state.omega_b);
       if (output_due(k, schedule, run.output_every)) {
         out.row(schedule.time(k), state.omega_b, state.attitude, state.attitude.set(), run.inertia);
@@ -264,6 +289,7 @@ RunSummary run_torque_free(const AttitudeRun& run, CsvOutput& out) {
     attitude::QuaternionSpinState state{*run.omega0_b, start.quaternion()};
     attitude::EulerSet previous = start.set();
     for (long k = 0;; ++k) {
+      require_finite_state(schedule.time(k), k, state.omega_b, state.orientation.coeffs().allFinite());
       const Attitude current = as_attitude(state.orientation);
       track(current.body_to_inertial(), state.omega_b);
       if (current.preferred_set() != previous) ++summary.switches;  // what the rule would do
@@ -293,6 +319,7 @@ RunSummary run_kinematics(const AttitudeRun& run, CsvOutput& out) {
   RunSummary summary{schedule.steps};
   for (long k = 0;; ++k) {
     const double t = schedule.time(k);
+    require_finite_state(t, k, omega_b(t), q.coeffs().allFinite() && attitude.angles().allFinite());
     if (run.method == Method::quaternion) {
       const attitude::EulerSet rule_set = as_attitude(q).preferred_set();
       if (rule_set != previous) ++summary.switches;  // what the rule would do

@@ -16,6 +16,7 @@
 
 #include "app/bench_rounds.hpp"
 #include "app/commands.hpp"
+#include "app/flag_values.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
 #include "io/case.hpp"
@@ -51,7 +52,7 @@ void check(const BenchOptions& o) {
   if (o.size < 8 || o.size > 2048) throw InputError(fmt::format("--size: must be in [8, 2048], got {}", o.size));
   if (o.steps < 2) throw InputError(fmt::format("--steps: must be >= 2, got {}", o.steps));
   if (o.rounds < 1 || o.rounds > 100) throw InputError(fmt::format("--rounds: must be in [1, 100], got {}", o.rounds));
-  if (o.threads < 0) throw InputError(fmt::format("--threads: must be >= 1 (or 0 for the default), got {}", o.threads));
+  check_thread_count(o.threads, "--threads");
   if (!(o.probe_gib >= 0.0625 && o.probe_gib <= 64.0))
     throw InputError(fmt::format("--probe-gib: must be in [0.0625, 64], got {}", o.probe_gib));
   if (!o.overrides.empty() && !coupled(o))

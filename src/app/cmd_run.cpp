@@ -28,6 +28,8 @@
 #include "analysis/timeseries.hpp"
 #include "app/commands.hpp"
 #include "app/console.hpp"
+#include "app/earlier_run.hpp"
+#include "app/flag_values.hpp"
 #include "app/output_values.hpp"
 #include "app/run_checkpoints.hpp"
 #include "app/run_directory_lock.hpp"
@@ -69,8 +71,7 @@ struct RunOptions {
 };
 
 void check_flags(const RunOptions& options) {
-  if (options.threads < 0)
-    throw InputError(fmt::format("--threads: must be >= 1 (or 0 for OpenMP's default), got {}", options.threads));
+  check_thread_count(options.threads, "--threads");
   if (options.quiet && options.verbose) throw InputError("--quiet and --verbose: choose one");
   if (options.dry_run && !options.restart_dir.empty())
     throw InputError("--dry-run: plans a case file, not a continued run; leave out --restart");
@@ -78,17 +79,34 @@ void check_flags(const RunOptions& options) {
     throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
 }
 
+// The earlier run's files in DIR that this run replaces or removes, all recognised as settle's
+// (app/earlier_run.hpp); read-only, so that the preflight can refuse before anything changes.
+EarlierRun survey_run_directory(const fs::path& dir, bool restarted, const io::CaseValues& values) {
+  if (restarted) return survey_restarted_run(dir);
+  return survey_earlier_run(dir, values.has("particle.file") ? mesh_copy_name(values.string("particle.file")) : "");
+}
+
+// Without -o the results go to runs/<case name>, the case file's name without its extension:
+// "...toml" leaves "..", which would put them in the current directory (and "..toml", ".", in
+// runs/ itself).
+void check_results_folder_name(const std::string& name, const fs::path& case_path) {
+  if (!name.empty() && name != "." && name != "..") return;
+  throw InputError(
+      fmt::format("{}: the case's name (its file name without .toml) is \"{}\", which cannot name the results "
+                  "folder runs/<case name>; rename the case file or give -o DIR",
+                  case_path.string(), name));
+}
+
 // Called only after every check passed and the grid is allocated (file comment).
-// Creates the directory and takes its lock before anything in it changes.
-std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir) {
+// Creates the directory and takes its lock before anything in it changes; the survey is made
+// again under the lock (another process may have written DIR since the preflight's).
+std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir, bool restarted,
+                                                           const io::CaseValues& values) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
   auto lock = std::make_unique<RunDirectoryLock>(dir);
-  fs::remove(dir / "summary.json", error);
-  if (error)
-    throw InputError(
-        fmt::format("-o: cannot remove the earlier run's {}: {}", (dir / "summary.json").string(), error.message()));
+  remove_earlier_run(survey_run_directory(dir, restarted, values));
   return lock;
 }
 
@@ -99,7 +117,7 @@ io::CaseValues with_mesh_copied_into(const io::CaseValues& values, const fs::pat
   io::CaseValues resolved = values;
   if (!values.has("particle.file")) return resolved;
   const fs::path source = case_base / values.string("particle.file");
-  const fs::path copy_name = "particle_mesh" + source.extension().string();
+  const fs::path copy_name = mesh_copy_name(source);
   std::error_code error;
   if (!fs::equivalent(source, dir / copy_name, error)) {
     fs::copy_file(source, dir / copy_name, fs::copy_options::overwrite_existing, error);
@@ -129,7 +147,7 @@ std::string derived_block(const coupling::Simulation& sim) {
   const auto& d = sim.derived();
   const auto& p = sim.plan();
   return fmt::format(
-      "\n# [derived] chosen by settle run (not read back):\n"
+      "\n{} (not read back):\n"
       "# dx = {:.9g}  # m, d_eq / cells_per_diameter\n"
       "# dt = {:.9g}  # s\n"
       "# tau = {:.9g}\n"
@@ -141,8 +159,9 @@ std::string derived_block(const coupling::Simulation& sim) {
       "# galileo = {:.6g}\n"
       "# markers = {}\n"
       "# marker_retraction = {:.9g}  # cells\n",
-      p.units.dx_si(), p.units.dt_si(), p.units.tau(), d.cells[0], d.cells[1], d.cells[2], p.equivalent_diameter_si,
-      p.expected_speed_si, p.mach, p.reynolds, p.galileo, d.marker_count, sim.setup().marker_retraction_cells);
+      kDerivedBlockTitle, p.units.dx_si(), p.units.dt_si(), p.units.tau(), d.cells[0], d.cells[1], d.cells[2],
+      p.equivalent_diameter_si, p.expected_speed_si, p.mach, p.reynolds, p.galileo, d.marker_count,
+      sim.setup().marker_retraction_cells);
 }
 
 // What the run itself reports: the case, the converter's numbers, the loop's figures and timing.
@@ -335,11 +354,15 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
   for (const auto& [name, seconds] : sim.timers().entries())
     console.info(fmt::format("  {:<20} {:8.2f} s  {:5.1f}%", name, seconds,
                              result.wall_seconds > 0.0 ? 100.0 * seconds / result.wall_seconds : 0.0));
-  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime"))
-    console.info(fmt::format(
-        "settling at {:.5g} m/s, Re = {:.4g}, C_D = {:.4g}, regime {}",
-        summary_document["terminal_vertical_velocity"].get<double>(), summary_document["reynolds"].get<double>(),
-        summary_document["drag_coefficient"].get<double>(), summary_document["regime"].get<std::string>()));
+  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime")) {
+    // No drag coefficient (null) for a body in wall contact over the averaging window.
+    const nlohmann::json& drag = summary_document["drag_coefficient"];
+    console.info(fmt::format("settling at {:.5g} m/s, Re = {:.4g}, C_D = {}, regime {}",
+                             summary_document["terminal_vertical_velocity"].get<double>(),
+                             summary_document["reynolds"].get<double>(),
+                             drag.is_number() ? fmt::format("{:.4g}", drag.get<double>()) : "none (wall contact)",
+                             summary_document["regime"].get<std::string>()));
+  }
   console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps, result.wall_seconds,
                            result.mlups, result.stop_reason, dir.string()));
 }
@@ -375,6 +398,7 @@ void run_case(const RunOptions& options) {
   const fs::path case_path = options.case_file;
   const io::CaseValues values = restart ? restart->case_values() : io::load_case(case_path, options.overrides);
   const std::string name = restart ? restart->case_name() : case_path.empty() ? "default" : case_path.stem().string();
+  if (!restart && options.output_dir.empty()) check_results_folder_name(name, case_path);
   const fs::path base = restart             ? restart->run_dir()
                         : case_path.empty() ? fs::current_path()
                                             : fs::absolute(case_path).parent_path();
@@ -387,9 +411,11 @@ void run_case(const RunOptions& options) {
                   : options.verbose ? Verbosity::verbose
                                     : Verbosity::normal);
   std::vector<std::string> warnings = io::unsupported_key_warnings(values);
+  if (restart) warnings.insert(warnings.end(), restart->warnings().begin(), restart->warnings().end());
   for (const auto& w : warnings) console.warning(w);
 
   coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
+  for (const std::string& note : setup.shape->notes()) console.info(note);  // a mesh reversed, its shells
   const fs::path dir = restart                      ? restart->run_dir()
                        : options.output_dir.empty() ? fs::path("runs") / name
                                                     : fs::path(options.output_dir);
@@ -405,6 +431,7 @@ void run_case(const RunOptions& options) {
     console.warning(*advice);
     warnings.push_back(*advice);
   }
+  survey_run_directory(dir, restart.has_value(), values);  // refuses before anything is touched
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
   if (options.dry_run) {
     if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -430,15 +457,21 @@ void run_case(const RunOptions& options) {
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
   std::unique_ptr<RunDirectoryLock> lock;
   std::string resolved_case;
+  std::vector<InputFileFingerprint> inputs;  // the files a restart reads again
   std::optional<io::TimeseriesWriter> timeseries;
   std::exception_ptr failed;
   if (lead) {
     try {
-      lock = prepare_output_directory(dir);
-      resolved_case = restart ? restart->resolved_case()
-                              : io::write_resolved_toml(with_mesh_copied_into(values, base, dir)) + derived_block(sim);
+      lock = prepare_output_directory(dir, restart.has_value(), values);
+      if (restart) {
+        resolved_case = restart->resolved_case();
+        inputs = restart->inputs();
+      } else {
+        const io::CaseValues resolved = with_mesh_copied_into(values, base, dir);
+        resolved_case = io::write_resolved_toml(resolved) + derived_block(sim);
+        inputs = input_files_of(resolved, dir);
+      }
       write_file_atomically(dir / "case.resolved.toml", resolved_case);
-      if (!restart) remove_earlier_checkpoint(dir);
       timeseries.emplace(restart
                              ? io::TimeseriesWriter::continue_at(dir / "timeseries.csv", restart->timeseries_bytes())
                              : io::TimeseriesWriter(dir / "timeseries.csv"));
@@ -476,7 +509,8 @@ void run_case(const RunOptions& options) {
     if (restart) vtk->resume(restart->vtk(), restart->time_si());
     callbacks.after_step = [&vtk](double t_si, double dt_si) { vtk->after_step(t_si, dt_si); };
   }
-  const RunCheckpoints checkpoints(dir, resolved_case, name);
+  RunCheckpoints checkpoints(dir, resolved_case, name, std::move(inputs),
+                             restart ? restart->series() : SeriesChecksum{});
   callbacks.checkpoint_interval_si = values.real("run.checkpoint_interval");
   callbacks.checkpoint_wall_interval_s = values.real("run.checkpoint_wall_interval");
   callbacks.checkpoint_due = [&](const coupling::RunStart& loop) {
@@ -510,7 +544,7 @@ void run_case(const RunOptions& options) {
 void add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* run = app.add_subcommand("run", "Run a case (without CASE: the built-in default case)");
-  run->add_option("case", options->case_file, "case file (TOML, SI units)");
+  CLI::Option* case_file = run->add_option("case", options->case_file, "case file (TOML, SI units)");
   run->add_option("-o,--output", options->output_dir, "output directory (default ./runs/<case name>)");
   run->add_option("--set", options->overrides, "override a case key, e.g. --set run.end_time=0.1 (repeatable)")
       ->take_all()
@@ -526,14 +560,23 @@ void add_run_command(CLI::App& app) {
       "--max-memory", options->max_memory_gib,
       "memory budget in GiB for the preflight check (default: MemAvailable of /proc/meminfo); a case whose estimate "
       "exceeds it is refused before anything is allocated");
-  run->callback([options, max_memory] {
+  CLI::Option* restart =
+      run->add_option("--restart", options->restart_dir,
+                      "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
+                      "SIGINT/SIGTERM); takes no case file or -o, and --set only for run.end_time (a later end)")
+          ->type_name("DIR");
+  run->callback([options, max_memory, case_file, restart] {
     options->max_memory_given = max_memory->count() > 0;
+    // An empty argument (an unset shell variable: settle run "$CASE") must not mean "none given",
+    // which runs the built-in default case (or a fresh run instead of a restart).
+    if (case_file->count() > 0 && options->case_file.empty())
+      throw InputError(
+          "CASE: the case file's path is empty (an unset shell variable?); give a case file, or leave CASE out "
+          "for the built-in default case");
+    if (restart->count() > 0 && options->restart_dir.empty())
+      throw InputError("--restart: the run directory's path is empty (an unset shell variable?)");
     run_case(*options);
   });
-  run->add_option("--restart", options->restart_dir,
-                  "continue the run in DIR from DIR/checkpoint.bin (written every run.checkpoint_interval and on "
-                  "SIGINT/SIGTERM); takes no case file or -o, and --set only for run.end_time (a later end)")
-      ->type_name("DIR");
 }
 
 }  // namespace settle::app

@@ -8,15 +8,18 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include <fmt/core.h>
 
 #include "app/commands.hpp"
+#include "app/flag_values.hpp"
 #include "app/python_child.hpp"
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
+#include "common/file_lock.hpp"
 #include "study/study_directory.hpp"
 #include "study/study_runner.hpp"
 #include "study/study_spec.hpp"
@@ -82,6 +85,22 @@ std::string slurm_script(const fs::path& dir, const std::string& study, std::siz
       absolute.string(), this_executable().string(), absolute.string(), threads);
 }
 
+// One `settle study run` at a time per study directory: two would each start the cases the other
+// is running, find their run locks held and report them failed (both exiting 3), and write the
+// same status files. Taken before the directory is prepared, held until the command ends.
+FileLock take_study_lock(const fs::path& dir) {
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
+  std::optional<FileLock> lock = FileLock::try_take(dir / kStudyLockFileName);
+  if (!lock)
+    throw InputError(fmt::format(
+        "-o {}: another settle study run is running this study ({} is locked); wait for it to end, or stop it "
+        "(SIGINT or SIGTERM) and run the command again to resume",
+        dir.string(), (dir / kStudyLockFileName).string()));
+  return std::move(*lock);
+}
+
 void print_plan(const std::vector<study::StudyCase>& cases) {
   for (const study::StudyCase& c : cases)
     std::printf("%s  %s\n", study::case_folder(c.index).c_str(), study::describe_inputs(c.inputs).c_str());
@@ -89,7 +108,7 @@ void print_plan(const std::vector<study::StudyCase>& cases) {
 
 void run_study_command(const StudyRunOptions& o) {
   if (o.jobs < 1) throw InputError(fmt::format("--jobs: {} is not >= 1", o.jobs));
-  if (o.threads < 0) throw InputError(fmt::format("--threads: {} is not >= 1", o.threads));
+  check_thread_count(o.threads, "--threads");
   if (!o.emit.empty() && o.emit != "slurm") throw InputError(fmt::format("--emit: \"{}\" is not slurm", o.emit));
   const study::StudySpec spec = study::read_study(o.study_file);
   const std::vector<study::StudyCase> cases = study::expand(spec);  // every case checked before anything runs
@@ -101,6 +120,8 @@ void run_study_command(const StudyRunOptions& o) {
   }
   if (o.output_dir.empty()) throw InputError("-o: required (the study's directory)");
   const fs::path dir = o.output_dir;
+  study::check_study_directory(spec, cases, dir);  // refuses another study's directory, touching nothing
+  const FileLock lock = take_study_lock(dir);
   study::prepare_study_directory(spec, cases, dir);
   if (o.emit == "slurm") {
     const fs::path script = dir / "slurm_array.sh";
@@ -129,6 +150,7 @@ void run_study_command(const StudyRunOptions& o) {
 }
 
 void task_command(const StudyTaskOptions& o) {
+  check_thread_count(o.threads, "--threads");
   study::RunnerOptions runner{this_executable(), 1, o.threads, 30.0, {}};
   const int status = study::run_study_case(o.dir, o.index, runner);
   if (status != 0) std::exit(status);

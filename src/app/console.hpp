@@ -12,6 +12,10 @@
 
 namespace settle::app {
 
+/// Writes to stderr and ignores a failure: after SIGHUP the terminal is gone (EIO), after SIGPIPE
+/// the pipe (EPIPE), and the run must still reach its checkpoint (fmt::print would throw).
+inline void write_stderr(const std::string& text) { std::fputs(text.c_str(), stderr); }
+
 /// silent: nothing at all (the ranks other than 0 of a run across processes).
 enum class Verbosity { silent, quiet, normal, verbose };
 
@@ -32,7 +36,7 @@ class Console {
     if (verbosity_ == Verbosity::quiet || verbosity_ == Verbosity::silent) return;
     if (!terminal_) return line(text);
     // \r and clear to the end of the line (ANSI EL): a shorter line leaves nothing behind.
-    fmt::print(stderr, "\rsettle run: {}\x1b[K", text);
+    write_stderr(fmt::format("\rsettle run: {}\x1b[K", text));
     std::fflush(stderr);
     progress_open_ = true;
   }
@@ -44,9 +48,9 @@ class Console {
 
  private:
   void line(const std::string& text) {
-    if (progress_open_) fmt::print(stderr, "\n");
+    if (progress_open_) write_stderr("\n");
     progress_open_ = false;
-    fmt::print(stderr, "settle run: {}\n", text);
+    write_stderr(fmt::format("settle run: {}\n", text));
   }
 
   Verbosity verbosity_;

@@ -1,13 +1,30 @@
 #include "app/flag_values.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <thread>
 
 #include <fmt/core.h>
 
 #include "common/error.hpp"
 
 namespace settle::app {
+
+int max_thread_count() {
+  constexpr int kThreadsPerCore = 4, kAtLeast = 256;
+  const auto cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(kAtLeast, kThreadsPerCore * cores);
+}
+
+void check_thread_count(int threads, const std::string& flag) {
+  if (threads < 0) throw InputError(fmt::format("{}: must be >= 1 (or 0 for OpenMP's default), got {}", flag, threads));
+  if (threads > max_thread_count())
+    throw InputError(
+        fmt::format("{}: {} threads are more than the {} settle starts on this machine of {} cores (4 "
+                    "per core, at least 256); OpenMP cannot create that many",
+                    flag, threads, max_thread_count(), std::max(1u, std::thread::hardware_concurrency())));
+}
 
 double parse_number(const std::string& text, const std::string& flag) {
   double value = 0.0;

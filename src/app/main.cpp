@@ -7,7 +7,9 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.hpp"
+#include "app/console.hpp"
 #include "common/error.hpp"
+#include "common/stop_signals.hpp"
 #include "parallel/communicator.hpp"
 #include "settle/version.hpp"
 
@@ -29,6 +31,7 @@ int fail_alone(int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  settle::ignore_file_size_signal();  // a write past ulimit -f fails (EFBIG) and is reported
   CLI::App app{"settle: resolved simulation of rigid particles of any shape settling in a quiescent fluid"};
   app.set_version_flag("--version",
                        fmt::format("settle {}, {}", settle::version_string, settle::parallel::mpi_library_version()));
@@ -50,16 +53,16 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   } catch (const settle::InputError& e) {
-    if (reports_errors()) fmt::print(stderr, "settle: error: {}\n", e.what());
+    if (reports_errors()) settle::app::write_stderr(fmt::format("settle: error: {}\n", e.what()));
     return 2;
   } catch (const settle::NumericalError& e) {
-    if (reports_errors()) fmt::print(stderr, "settle: run stopped: {}\n", e.what());
+    if (reports_errors()) settle::app::write_stderr(fmt::format("settle: run stopped: {}\n", e.what()));
     return 3;
   } catch (const settle::RunInterrupted& e) {
-    if (reports_errors()) fmt::print(stderr, "settle: {}\n", e.what());
+    if (reports_errors()) settle::app::write_stderr(fmt::format("settle: {}\n", e.what()));
     return e.exit_status();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "settle: internal error: {}\n", e.what());
+    settle::app::write_stderr(fmt::format("settle: internal error: {}\n", e.what()));
     return fail_alone(1);
   }
   return 0;

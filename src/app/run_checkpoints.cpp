@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/atomic_file.hpp"
+#include "common/stop_signals.hpp"
 #include "io/case_schema.hpp"
 
 namespace settle::app {
@@ -27,6 +28,7 @@ constexpr const char* kThreads = "run/threads";
 constexpr const char* kSamplesBlob = "run/samples";
 constexpr const char* kCaseNameBlob = "run/case_name";
 constexpr const char* kIntervalBlob = "run/interval_sums";
+constexpr const char* kFingerprintBlob = "run/fingerprint";
 
 fs::path timeseries_path(const fs::path& run_dir) { return run_dir / "timeseries.csv"; }
 
@@ -128,12 +130,6 @@ void on_stop_signal(int signal_number) {
   g_stop_signal.compare_exchange_strong(none, signal_number);
 }
 
-std::string signal_name(int signal_number) {
-  if (signal_number == SIGINT) return "SIGINT";
-  if (signal_number == SIGTERM) return "SIGTERM";
-  return fmt::format("signal {}", signal_number);
-}
-
 std::vector<std::byte> interval_record(const coupling::IntervalSums& sums) {
   RecordWriter out;
   out.u64(static_cast<std::uint64_t>(sums.steps));
@@ -163,7 +159,61 @@ coupling::IntervalSums interval_from_record(const coupling::CheckpointCallerData
   return sums;
 }
 
+// The run's fingerprint: the checksum of timeseries.csv up to the checkpoint, and the input files.
+std::vector<std::byte> fingerprint_record(const SeriesChecksum& series,
+                                          const std::vector<InputFileFingerprint>& inputs) {
+  RecordWriter out;
+  out.u64(series.bytes);
+  out.u32(series.crc32);
+  out.u64(inputs.size());
+  for (const InputFileFingerprint& f : inputs) {
+    out.string(f.name);
+    out.u64(f.bytes);
+    out.u32(f.crc32);
+  }
+  return out.take();
+}
+
+struct RunFingerprint {
+  SeriesChecksum series;
+  std::vector<InputFileFingerprint> inputs;
+};
+
+RunFingerprint fingerprint_from_record(const std::vector<std::byte>& record) {
+  RecordReader in(record, std::string("caller/blob/") + kFingerprintBlob);
+  RunFingerprint f;
+  f.series.bytes = in.u64();
+  f.series.crc32 = in.u32();
+  // No reserve from the stored count: a malformed count fails at the first read past the end.
+  for (std::uint64_t n = in.u64(); n > 0; --n) {
+    InputFileFingerprint file;
+    file.name = in.string();
+    file.bytes = in.u64();
+    file.crc32 = in.u32();
+    f.inputs.push_back(std::move(file));
+  }
+  in.expect_end();
+  return f;
+}
+
+std::string checksum_text(std::uintmax_t bytes, std::uint32_t crc) {
+  return fmt::format("{} bytes, CRC-32 {:08x}", bytes, crc);
+}
+
 }  // namespace
+
+InputFileFingerprint fingerprint_input_file(const fs::path& run_dir, const std::string& name) {
+  const fs::path file = run_dir / name;
+  std::error_code error;
+  const std::uintmax_t bytes = fs::file_size(file, error);
+  if (error) throw InputError(fmt::format("{}: cannot read it: {}", file.string(), error.message()));
+  return {name, bytes, crc32_of_file(file, 0, bytes)};
+}
+
+std::vector<InputFileFingerprint> input_files_of(const io::CaseValues& resolved, const fs::path& run_dir) {
+  if (!resolved.has("particle.file")) return {};
+  return {fingerprint_input_file(run_dir, resolved.string("particle.file"))};
+}
 
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples) {
   RecordWriter out;
@@ -206,17 +256,6 @@ void check_restart_flags(const std::string& restart_dir, const std::string& case
                                  output_dir, why, restart_dir));
 }
 
-void remove_earlier_checkpoint(const fs::path& run_dir) {
-  const fs::path checkpoint = run_dir / kCheckpointFileName;
-  for (const fs::path& file : {checkpoint, run_dir / (std::string(kCheckpointFileName) + ".tmp"),
-                               coupling::checkpoint_parts_directory(checkpoint)}) {
-    std::error_code error;
-    fs::remove_all(file, error);
-    if (error)
-      throw InputError(fmt::format("-o: cannot remove the earlier run's {}: {}", file.string(), error.message()));
-  }
-}
-
 std::optional<std::string> missing_checkpoint_advice(double checkpoint_interval_si, double checkpoint_wall_interval_s,
                                                      double cell_updates) {
   if (checkpoint_interval_si > 0.0 || checkpoint_wall_interval_s > 0.0 || cell_updates < kLongRunCellUpdates)
@@ -231,14 +270,16 @@ std::optional<std::string> missing_checkpoint_advice(double checkpoint_interval_
 
 // RunCheckpoints
 
-RunCheckpoints::RunCheckpoints(fs::path run_dir, std::string resolved_case, std::string case_name)
+RunCheckpoints::RunCheckpoints(fs::path run_dir, std::string resolved_case, std::string case_name,
+                               std::vector<InputFileFingerprint> inputs, SeriesChecksum series)
     : run_dir_(std::move(run_dir)),
       file_(run_dir_ / kCheckpointFileName),
       resolved_case_(std::move(resolved_case)),
-      case_name_(std::move(case_name)) {}
+      case_name_(std::move(case_name)),
+      inputs_(std::move(inputs)),
+      series_(series) {}
 
-void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunStart& loop,
-                           const VtkProgress& vtk) const {
+void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunStart& loop, const VtkProgress& vtk) {
   // Rank 0 writes the time series and the part of the checkpoint that records its length.
   std::uintmax_t timeseries_bytes = 0;
   if (sim.communicator().rank() == 0) {
@@ -249,6 +290,16 @@ void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunS
     if (error)
       throw CheckpointError(
           fmt::format("{}: cannot measure it for the checkpoint: {}", timeseries.string(), error.message()));
+    if (timeseries_bytes < series_.bytes)
+      throw CheckpointError(fmt::format("{}: holds {} bytes, fewer than the {} of the last checkpoint",
+                                        timeseries.string(), timeseries_bytes, series_.bytes));
+    try {
+      series_.crc32 =
+          crc32_of_file(timeseries, series_.bytes, timeseries_bytes - series_.bytes, series_.crc32);  // the new rows
+    } catch (const InputError& e) {
+      throw CheckpointError(fmt::format("before the checkpoint: {}", e.what()));
+    }
+    series_.bytes = timeseries_bytes;
   }
   coupling::CheckpointCallerData data;
   data.resolved_case = resolved_case_;
@@ -264,6 +315,7 @@ void RunCheckpoints::write(const coupling::Simulation& sim, const coupling::RunS
   data.blobs[kIntervalBlob] = interval_record(loop.interval);
   const auto name = std::as_bytes(std::span(case_name_));
   data.blobs[kCaseNameBlob] = std::vector<std::byte>(name.begin(), name.end());
+  data.blobs[kFingerprintBlob] = fingerprint_record(series_, inputs_);
   coupling::write_checkpoint(sim, data, file_);
 }
 
@@ -276,7 +328,7 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
   if (!fs::exists(file_, error))
     throw CheckpointError(
         fmt::format("{}: no checkpoint to restart from (settle run writes one every "
-                    "run.checkpoint_interval and when SIGINT or SIGTERM stops it)",
+                    "run.checkpoint_interval and when a signal such as SIGINT, SIGTERM or SIGHUP stops it)",
                     file_.string()));
   try {
     checkpoint_.emplace(file_);
@@ -320,6 +372,54 @@ RestartPoint::RestartPoint(fs::path run_dir) : run_dir_(std::move(run_dir)), fil
         fmt::format("{}: cannot continue the run: {} holds {} bytes, fewer than the {} it held at the "
                     "checkpoint (rows before the checkpoint are missing)",
                     file_.string(), timeseries.string(), size, timeseries_bytes_));
+  const auto record = checkpoint_->caller().blobs.find(kFingerprintBlob);
+  check_fingerprint(record == checkpoint_->caller().blobs.end() ? nullptr : &record->second);
+}
+
+// The run's files against the checkpoint's record of them (RunCheckpoints): a checkpoint copied
+// from another run, a time series edited or a mesh replaced is refused before anything changes.
+void RestartPoint::check_fingerprint(const std::vector<std::byte>* record) {
+  const fs::path timeseries = timeseries_path(run_dir_);
+  series_ = {timeseries_bytes_, crc32_of_file(timeseries, 0, timeseries_bytes_)};
+  if (record == nullptr) {
+    // Written before settle recorded the fingerprint (format version 3 without it): accepted,
+    // since refusing would throw away a long run, but the user is told what was not checked.
+    const io::CaseValues& values = *values_;
+    if (values.has("particle.file")) inputs_ = {fingerprint_input_file(run_dir_, values.string("particle.file"))};
+    warnings_.push_back(fmt::format(
+        "{}: written by a settle that did not record the run's fingerprint, so this restart cannot check that {} "
+        "and the input files in {} belong to it; continue only a directory you know is this run's",
+        file_.string(), timeseries.string(), run_dir_.string()));
+    return;
+  }
+  RunFingerprint stored;
+  try {
+    stored = fingerprint_from_record(*record);
+  } catch (const CheckpointError& e) {
+    throw CheckpointError(fmt::format("{}: {}", file_.string(), e.what()));
+  }
+  if (stored.series.bytes != series_.bytes || stored.series.crc32 != series_.crc32)
+    throw CheckpointError(fmt::format(
+        "{}: {} is not the time series this checkpoint belongs to: its first {} bytes have CRC-32 {:08x}, the "
+        "checkpoint recorded {} (the directory holds another run's files, or the file was edited); restart a run "
+        "from its own checkpoint",
+        file_.string(), timeseries.string(), series_.bytes, series_.crc32,
+        checksum_text(stored.series.bytes, stored.series.crc32)));
+  for (const InputFileFingerprint& expected : stored.inputs) {
+    const fs::path input = run_dir_ / expected.name;
+    std::error_code error;
+    if (!fs::is_regular_file(input, error))
+      throw CheckpointError(fmt::format("{}: the run's input file {} is missing (the checkpoint recorded {})",
+                                        file_.string(), input.string(), checksum_text(expected.bytes, expected.crc32)));
+    const InputFileFingerprint found = fingerprint_input_file(run_dir_, expected.name);
+    if (!(found == expected))
+      throw CheckpointError(fmt::format(
+          "{}: {} is not the input file this run started with: {}, where the checkpoint recorded {}; put the "
+          "original back",
+          file_.string(), input.string(), checksum_text(found.bytes, found.crc32),
+          checksum_text(expected.bytes, expected.crc32)));
+  }
+  inputs_ = std::move(stored.inputs);
 }
 
 void RestartPoint::apply_overrides(const std::vector<std::string>& overrides) {
@@ -349,13 +449,11 @@ InterruptSignals::InterruptSignals() {
   sigemptyset(&action.sa_mask);
   // Restart interrupted system calls (file writes): the loop polls the flag between steps.
   action.sa_flags = SA_RESTART;
-  sigaction(SIGINT, &action, &previous_int_);
-  sigaction(SIGTERM, &action, &previous_term_);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &action, &previous_[i]);
 }
 
 InterruptSignals::~InterruptSignals() {
-  sigaction(SIGINT, &previous_int_, nullptr);
-  sigaction(SIGTERM, &previous_term_, nullptr);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &previous_[i], nullptr);
 }
 
 bool InterruptSignals::raised() const { return g_stop_signal.load(std::memory_order_relaxed) != 0; }
@@ -365,10 +463,11 @@ int InterruptSignals::signal_number_seen_by_any(parallel::Communicator& ranks) c
   // mpirun passes a signal on to its ranks at different moments, and the run loop stops them all
   // when one has it: the ranks that had not yet seen it must still name it (and exit with its status).
   const int mine = signal_number();
-  const std::vector<double> seen =
-      parallel::sum_in_rank_order(ranks, {mine == SIGINT ? 1.0 : 0.0, mine == SIGTERM ? 1.0 : 0.0});
-  if (seen[0] > 0.0) return SIGINT;
-  if (seen[1] > 0.0) return SIGTERM;
+  std::vector<double> seen_here;
+  for (const int s : kStopSignals) seen_here.push_back(mine == s ? 1.0 : 0.0);
+  const std::vector<double> seen = parallel::sum_in_rank_order(ranks, seen_here);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i)
+    if (seen[i] > 0.0) return kStopSignals[i];
   return mine;
 }
 

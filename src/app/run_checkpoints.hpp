@@ -1,6 +1,6 @@
 #pragma once
 // Checkpoints of `settle run` (docs/checkpoints.md): DIR/checkpoint.bin every run.checkpoint_interval
-// of simulated time and when SIGINT or SIGTERM stops the run, and `settle run --restart DIR`, which
+// of simulated time and when a stop signal (SIGINT, SIGTERM, SIGHUP, ...) stops the run, and `settle run --restart DIR`, which
 // continues the run in DIR from it as if it had never stopped.
 //
 // A checkpoint holds the simulation (coupling/checkpoint_state.hpp) and what the front end needs to
@@ -9,6 +9,7 @@
 // the wall time so far), the VTK schedule and file count, the OpenMP thread count, and the length of
 // timeseries.csv at that moment (a restart cuts the file back to it: rows written after the
 // checkpoint are written again).
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/stop_signals.hpp"
 #include "coupling/checkpoint_state.hpp"
 #include "coupling/runner.hpp"
 #include "coupling/simulation.hpp"
@@ -36,6 +38,28 @@ struct VtkProgress {
   int files_written = 0;        ///< the number NNNNNN of the next fluid_NNNNNN.vti / surface_NNNNNN.vtp
 };
 
+/// A file the run reads again at a restart (the mesh copy particle_mesh.stl beside
+/// case.resolved.toml), as the checkpoint records it: a restart refuses a file that differs.
+struct InputFileFingerprint {
+  std::string name;  ///< relative to the run directory
+  std::uintmax_t bytes = 0;
+  std::uint32_t crc32 = 0;
+  bool operator==(const InputFileFingerprint&) const = default;
+};
+
+/// The fingerprint of `run_dir / name`. settle::InputError naming the file when it cannot be read.
+InputFileFingerprint fingerprint_input_file(const std::filesystem::path& run_dir, const std::string& name);
+
+/// The fingerprints of the files a run of `resolved` (a case whose paths are relative to
+/// `run_dir`) reads: its mesh (particle.file), if any.
+std::vector<InputFileFingerprint> input_files_of(const io::CaseValues& resolved, const std::filesystem::path& run_dir);
+
+/// How far a CRC-32 of timeseries.csv has got: the first `bytes` bytes have `crc32`.
+struct SeriesChecksum {
+  std::uintmax_t bytes = 0;
+  std::uint32_t crc32 = 0;
+};
+
 /// The samples as a checkpoint record (RecordWriter): every coupling::Sample field, bit for bit.
 std::vector<std::byte> samples_record(std::span<const coupling::Sample> samples);
 /// The inverse of samples_record. CheckpointError naming `section` when the record is malformed.
@@ -51,11 +75,6 @@ inline constexpr const char* kRestartExtendableKey = "run.end_time";
 void check_restart_flags(const std::string& restart_dir, const std::string& case_file,
                          const std::vector<std::string>& overrides, const std::string& output_dir);
 
-/// A fresh run into DIR removes an earlier run's DIR/checkpoint.bin (and its .tmp): restarting from
-/// it would cut the new timeseries.csv to the old run's length. settle::InputError naming the file
-/// when it cannot be removed.
-void remove_earlier_checkpoint(const std::filesystem::path& run_dir);
-
 /// A warning for a long run that keeps no checkpoint (run.checkpoint_interval and
 /// run.checkpoint_wall_interval both 0): once it has ended, `settle run --restart DIR --set
 /// run.end_time=T` has nothing to continue from, and a crash loses the whole run. Empty when
@@ -69,15 +88,21 @@ std::optional<std::string> missing_checkpoint_advice(double checkpoint_interval_
 inline constexpr double kLongRunCellUpdates = 1e11;
 
 /// Writes DIR/checkpoint.bin for one run (atomically: the previous checkpoint stays whole until
-/// the new one is complete).
+/// the new one is complete). Beside the state it records the run's fingerprint, so that a restart
+/// continues only the run the checkpoint belongs to: the CRC-32 of timeseries.csv up to the
+/// checkpoint, and the fingerprints of the input files (docs/checkpoints.md).
 class RunCheckpoints {
  public:
-  RunCheckpoints(std::filesystem::path run_dir, std::string resolved_case, std::string case_name);
+  /// `series`: the checksum of the part of timeseries.csv already there (a restart's; a fresh
+  /// run's file starts empty).
+  RunCheckpoints(std::filesystem::path run_dir, std::string resolved_case, std::string case_name,
+                 std::vector<InputFileFingerprint> inputs, SeriesChecksum series);
 
   /// The simulation, the loop's state and the front end's. timeseries.csv must hold every row
   /// handed out so far (TimeseriesWriter flushes each row); it is synced to the disk first, so
-  /// that the length stored is there after a crash.
-  void write(const coupling::Simulation& simulation, const coupling::RunStart& loop, const VtkProgress& vtk) const;
+  /// that the length stored is there after a crash, and its checksum is carried on over the bytes
+  /// added since the last checkpoint.
+  void write(const coupling::Simulation& simulation, const coupling::RunStart& loop, const VtkProgress& vtk);
   const std::filesystem::path& file() const { return file_; }
 
  private:
@@ -85,6 +110,8 @@ class RunCheckpoints {
   std::filesystem::path file_;
   std::string resolved_case_;
   std::string case_name_;
+  std::vector<InputFileFingerprint> inputs_;
+  SeriesChecksum series_;
 };
 
 /// `settle run --restart DIR`: DIR/checkpoint.bin opened, verified and decoded, before anything in
@@ -113,6 +140,12 @@ class RestartPoint {
   int threads() const { return threads_; }
   /// The loop's state at the checkpoint (its samples included).
   const coupling::RunStart& loop() const { return loop_; }
+  /// The checksum of timeseries.csv up to the checkpoint, and the run's input files (both checked
+  /// against the checkpoint's record when it has one).
+  SeriesChecksum series() const { return series_; }
+  const std::vector<InputFileFingerprint>& inputs() const { return inputs_; }
+  /// Warnings for the user (a checkpoint written before settle recorded the run's fingerprint).
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
   /// Puts the saved state into `simulation`, built from case_values(), and releases the file's
   /// memory mapping (restore once).
@@ -132,11 +165,17 @@ class RestartPoint {
   VtkProgress vtk_;
   int threads_ = 1;
   coupling::RunStart loop_;
+  SeriesChecksum series_;
+  std::vector<InputFileFingerprint> inputs_;
+  std::vector<std::string> warnings_;
+
+  void check_fingerprint(const std::vector<std::byte>* record);
 };
 
-/// SIGINT and SIGTERM, while this object lives, only set a flag (async-signal-safe: a lock-free
-/// atomic store): the run loop polls raised() after every step and stops there. The previous
-/// handlers come back on destruction. One object at a time.
+/// The stop signals (common/stop_signals.hpp: SIGINT, SIGTERM, SIGHUP, ...), while this object
+/// lives, only set a flag (async-signal-safe: a lock-free atomic store): the run loop polls raised()
+/// after every step and stops there. The previous handlers come back on destruction. One object
+/// at a time.
 class InterruptSignals {
  public:
   InterruptSignals();
@@ -148,12 +187,11 @@ class InterruptSignals {
   /// The signal that arrived first (0: none).
   int signal_number() const;
   /// The signal that stopped a run split over `ranks`, which stop together when any of them saw
-  /// one: SIGINT if any rank saw SIGINT, else SIGTERM if any saw it, else 0. A collective call.
+  /// one: the first of kStopSignals that any rank saw, else 0. A collective call.
   int signal_number_seen_by_any(parallel::Communicator& ranks) const;
 
  private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
+  std::array<struct sigaction, kStopSignals.size()> previous_{};
 };
 
 /// The settle::RunInterrupted for a run that `signal_number` stopped after writing `checkpoint`: the

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include <fmt/core.h>
+#include <Eigen/Geometry>
 
 #include "body/projected_area.hpp"
 #include "body/stl_io.hpp"
@@ -84,6 +85,54 @@ void check_moments_representable(const VolumeMoments& moments, double area, doub
   }
 }
 
+// The solid angle triangle (a, b, c) subtends at the origin, signed by its winding (Van Oosterom and
+// Strackee 1983, "The solid angle of a plane triangle", IEEE Trans. Biomed. Eng. 30(2), 125-126,
+// doi:10.1109/TBME.1983.325207).
+double solid_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+  return 2.0 * std::atan2(a.dot(b.cross(c)), denominator);
+}
+
+// The winding number of shell `shell` about p: the solid angle its triangles subtend over 4 pi, 1
+// inside a closed outward shell and 0 outside (Gauss), exact up to rounding away from its surface.
+double winding_number(const TriangleMesh& mesh, const std::vector<int>& label, int shell, const Eigen::Vector3d& p) {
+  double total = 0.0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (label[t] != shell) continue;
+    const auto& tri = mesh.triangles[t];
+    total += solid_angle(mesh.vertices[tri[0]] - p, mesh.vertices[tri[1]] - p, mesh.vertices[tri[2]] - p);
+  }
+  return total / (4.0 * std::numbers::pi);
+}
+
+// Outward shells one inside another would count the inner solid twice (the volumes add): refused.
+// Only shells whose bounding box lies within another's are tested, with one of their vertices;
+// shells that merely overlap are not detected (docs/shapes.md).
+void check_shells_not_nested(const TriangleMesh& mesh, const std::vector<int>& label, int shells,
+                             const std::string& source) {
+  const auto n = static_cast<std::size_t>(shells);
+  std::vector<Eigen::AlignedBox3d> box(n);
+  std::vector<int> vertex(n, -1), triangles(n, 0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto s = static_cast<std::size_t>(label[t]);
+    ++triangles[s];
+    for (const int v : mesh.triangles[t]) box[s].extend(mesh.vertices[static_cast<std::size_t>(v)]);
+    if (vertex[s] < 0) vertex[s] = mesh.triangles[t][0];
+  }
+  for (std::size_t outer = 0; outer < n; ++outer)
+    for (std::size_t inner = 0; inner < n; ++inner) {
+      if (inner == outer || !box[outer].contains(box[inner])) continue;
+      const Eigen::Vector3d probe = mesh.vertices[static_cast<std::size_t>(vertex[inner])];
+      if (winding_number(mesh, label, static_cast<int>(outer), probe) < 0.5) continue;
+      throw InputError(
+          fmt::format("{}: shell {} ({} triangles) lies inside shell {} ({} triangles), both oriented outward: "
+                      "as one body their volumes would add and count the inner solid twice; remove the inner "
+                      "shell, or merge the two into one surface",
+                      source, inner + 1, triangles[inner], outer + 1, triangles[outer]));
+    }
+}
+
 double corner_angle(const Eigen::Vector3d& at, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
   const Eigen::Vector3d u = p - at, v = q - at;
   return std::atan2(u.cross(v).norm(), u.dot(v));
@@ -120,6 +169,7 @@ MeshShape::MeshShape(TriangleMesh mesh, std::string source) : mesh_(std::move(me
     for (auto& n : neighbours) n = {n[2], n[1], n[0]};  // edge k of the reversed triangle is old edge 2-k
     notes_.push_back(source + ": all faces were oriented inward (negative volume); the orientation was reversed");
   }
+  if (shells > 1 && inward == 0) check_shells_not_nested(mesh_, label, shells, source);
   if (shells > 1)
     notes_.push_back(fmt::format("{}: the mesh has {} separate shells, treated as one rigid body", source, shells));
 

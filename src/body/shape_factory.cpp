@@ -19,6 +19,14 @@ namespace {
 
 constexpr double kMinRatio = 1e-3;
 constexpr double kMaxRatio = 1e3;
+// The lengths of an analytic shape (m): its volume grows as the cube of its size, its second moments
+// as the fifth power, and the ellipsoid's surface area takes 1/a^2; with the ratios above up to 1e3
+// (a spheroid's polar axis up to 1e3 diameters), sizes within [1e-50, 1e50] m keep all of them
+// normal doubles (1e53^5 = 1e265) (a sphere of 1e-160 m made the
+// surface area's Carlson integral fail, one of 1e120 m a volume of inf). Meshes have their own
+// check (mesh_shape.cpp), of the same powers.
+constexpr double kMinLength_m = 1e-50;
+constexpr double kMaxLength_m = 1e50;
 
 // The keys each shape takes.
 std::vector<std::string_view> keys_of(std::string_view shape) {
@@ -61,9 +69,20 @@ class Validator {
     }
     return value;
   }
+  /// A length of the shape (m): finite, > 0 and within [kMinLength_m, kMaxLength_m].
+  double length(std::string_view key, double value, const std::string& where = "") const {
+    positive(key, value, where);
+    if (value < kMinLength_m || value > kMaxLength_m)
+      throw InputError(
+          fmt::format("{}{}: {:g} m is too {} for double precision (its volume and moments of inertia, "
+                      "the third and fifth powers of the size, would {}); give a length in [{:g}, {:g}] m",
+                      name(key), where, value, value < kMinLength_m ? "small" : "large",
+                      value < kMinLength_m ? "underflow" : "overflow", kMinLength_m, kMaxLength_m));
+    return value;
+  }
   Eigen::Vector3d positive3(std::string_view key, const std::array<double, 3>& values) const {
     const Eigen::Vector3d v(values[0], values[1], values[2]);
-    for (int i = 0; i < 3; ++i) positive(key, v(i), fmt::format(" (value {} of 3)", i + 1));
+    for (int i = 0; i < 3; ++i) length(key, v(i), fmt::format(" (value {} of 3)", i + 1));
     ratio(key, v.maxCoeff() / v.minCoeff(), "the largest to the smallest value");
     return v;
   }
@@ -90,10 +109,10 @@ std::unique_ptr<Shape> build(const ShapeSpec& spec, const ShapeFactoryOptions& o
   const std::string& shape = spec.shape;
   if (shape == "sphere") {
     return std::make_unique<Ellipsoid>(
-        Ellipsoid::sphere(check.positive("diameter", check.required("diameter", spec.diameter))));
+        Ellipsoid::sphere(check.length("diameter", check.required("diameter", spec.diameter))));
   }
   if (shape == "spheroid") {
-    const double diameter = check.positive("diameter", check.required("diameter", spec.diameter));
+    const double diameter = check.length("diameter", check.required("diameter", spec.diameter));
     const double aspect = check.positive("aspect_ratio", check.required("aspect_ratio", spec.aspect_ratio));
     check.ratio("aspect_ratio", aspect, "polar to equatorial diameter");
     return std::make_unique<Ellipsoid>(Ellipsoid::spheroid(diameter, aspect));
@@ -102,8 +121,8 @@ std::unique_ptr<Shape> build(const ShapeSpec& spec, const ShapeFactoryOptions& o
     return std::make_unique<Ellipsoid>(check.positive3("semi_axes", check.required("semi_axes", spec.semi_axes)));
   }
   if (shape == "cylinder") {
-    const double diameter = check.positive("diameter", check.required("diameter", spec.diameter));
-    const double length = check.positive("length", check.required("length", spec.length));
+    const double diameter = check.length("diameter", check.required("diameter", spec.diameter));
+    const double length = check.length("length", check.required("length", spec.length));
     check.ratio("length", length / diameter, "length to diameter");
     return std::make_unique<Cylinder>(diameter, length);
   }

@@ -28,9 +28,9 @@ bool fsync_path(const fs::path& path, int flags) {
   return synced;
 }
 
-std::string system_error_text() { return std::strerror(errno); }
-
 }  // namespace
+
+std::string system_error_text() { return std::strerror(errno); }
 
 AtomicFile::AtomicFile(fs::path path) : path_(std::move(path)), temporary_(path_) {
   temporary_ += ".tmp";
@@ -46,10 +46,15 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::commit() {
+  errno = 0;
   out_.flush();
   const bool written = static_cast<bool>(out_);
   out_.close();
-  if (!written || out_.fail()) throw InputError(fmt::format("{}: cannot write (write failed)", path_.string()));
+  // The stream keeps no reason; errno holds the failed write's (ENOSPC, EFBIG under a file-size
+  // limit) when the stream failed in this call, else an earlier write's, or 0.
+  if (!written || out_.fail())
+    throw InputError(fmt::format("{}: cannot write (write failed{})", path_.string(),
+                                 errno != 0 ? ": " + system_error_text() : std::string()));
   if (!fsync_path(temporary_, 0))
     throw InputError(
         fmt::format("{}: cannot flush {} to the disk ({})", path_.string(), temporary_.string(), system_error_text()));
@@ -67,6 +72,17 @@ void write_file_atomically(const fs::path& path, std::string_view text) {
   AtomicFile file(path);
   file.stream() << text;
   file.commit();
+}
+
+bool file_starts_with(const fs::path& file, std::string_view signature, bool cut_allowed) {
+  std::error_code error;
+  if (!fs::is_regular_file(fs::symlink_status(file, error))) return false;
+  std::ifstream in(file, std::ios::binary);
+  std::string head(signature.size(), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (head.size() == signature.size()) return head == signature;
+  return cut_allowed && in.eof() && signature.substr(0, head.size()) == head;
 }
 
 void sync_file_to_disk(const fs::path& file) {

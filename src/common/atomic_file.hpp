@@ -10,6 +10,7 @@
 // Until the rename the previous file stays complete and untouched.
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <string_view>
 
 namespace settle {
@@ -39,5 +40,14 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
 /// Flushes a file's data that is already written (e.g. by a stream) to the disk (fsync).
 /// settle::InputError naming the file when it cannot.
 void sync_file_to_disk(const std::filesystem::path& file);
+
+/// True when `file` is a regular file whose first bytes are `signature` (how settle recognises a
+/// file it wrote before it replaces or removes it: docs/errors.md, "Promises"). With
+/// `cut_allowed`, also when the whole file is a shorter prefix of the signature: a temporary
+/// file cut off before its first bytes reached the disk, empty or not.
+bool file_starts_with(const std::filesystem::path& file, std::string_view signature, bool cut_allowed = false);
+
+/// The operating system's reason for the last failed call (strerror(errno)), for messages.
+std::string system_error_text();
 
 }  // namespace settle

@@ -9,6 +9,7 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <ostream>
 #include <stdexcept>
 #include <utility>
@@ -40,8 +41,6 @@ constexpr CrcTables make_crc_tables() {
   return t;
 }
 constexpr CrcTables kCrcTables = make_crc_tables();
-
-std::string system_error_text() { return std::strerror(errno); }
 
 class FileDescriptor {
  public:
@@ -88,6 +87,24 @@ std::uint32_t crc32(std::span<const std::byte> data, std::uint32_t crc) {
   }
   for (; n > 0; --n, ++p) crc = (crc >> 8) ^ t[0][(crc ^ std::to_integer<std::uint32_t>(*p)) & 0xFFu];
   return ~crc;
+}
+
+std::uint32_t crc32_of_file(const std::filesystem::path& file, std::uintmax_t offset, std::uintmax_t bytes,
+                            std::uint32_t crc) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read it: {}", file.string(), system_error_text()));
+  in.seekg(static_cast<std::streamoff>(offset));
+  std::vector<std::byte> buffer(std::size_t{1} << 20);
+  while (bytes > 0) {
+    const auto chunk = static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, buffer.size()));
+    in.read(reinterpret_cast<char*>(buffer.data()), static_cast<std::streamsize>(chunk));
+    if (static_cast<std::size_t>(in.gcount()) != chunk)
+      throw InputError(fmt::format("{}: ends before byte {}", file.string(), offset + chunk));
+    crc = crc32(std::span(buffer).first(chunk), crc);
+    offset += chunk;
+    bytes -= chunk;
+  }
+  return crc;
 }
 
 // ---------------------------------------------------------------- writing
@@ -148,6 +165,10 @@ void CheckpointWriter::write(const std::filesystem::path& file) const {
   } catch (const InputError& e) {
     throw CheckpointError(fmt::format("cannot write the checkpoint: {}", e.what()));
   }
+}
+
+bool is_checkpoint_file(const std::filesystem::path& file, bool cut_allowed) {
+  return file_starts_with(file, std::string_view(kMagic.data(), kMagic.size()), cut_allowed);
 }
 
 // ---------------------------------------------------------------- reading

@@ -58,6 +58,11 @@ class CheckpointError : public InputError {
 /// CRC generation", IEEE Trans. Computers 57, 1550, doi:10.1109/TC.2008.85).
 std::uint32_t crc32(std::span<const std::byte> data, std::uint32_t crc = 0);
 
+/// crc32 of `bytes` bytes of `file` from `offset` on, continued from `crc`. settle::InputError naming
+/// the file when it cannot be read or ends before.
+std::uint32_t crc32_of_file(const std::filesystem::path& file, std::uintmax_t offset, std::uintmax_t bytes,
+                            std::uint32_t crc = 0);
+
 /// Collects sections and writes them as one checkpoint file.
 class CheckpointWriter {
  public:
@@ -79,6 +84,11 @@ class CheckpointWriter {
   };
   std::vector<Section> sections_;
 };
+
+/// True when `file` is a regular file that starts with a checkpoint's signature (SETTLECK); with
+/// `cut_allowed` also when it is a shorter prefix of it (a <file>.tmp cut off before its header
+/// was written). How a fresh run recognises a checkpoint of an earlier run before removing it.
+bool is_checkpoint_file(const std::filesystem::path& file, bool cut_allowed = false);
 
 /// A checkpoint file opened and verified. Move-only: the sections are views into its mapping.
 class CheckpointFile {

@@ -1,5 +1,6 @@
 #include "coupling/checkpoint_state.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <optional>
 #include <stdexcept>
@@ -414,31 +415,53 @@ SplitRecord decode_split(std::span<const std::byte> data, const char* section) {
 
 /// Runs `action` on every rank and fails on every rank if it failed on any: a rank that went on
 /// alone would wait for the others' messages forever. The failing rank throws its own error; the
-/// others name the first rank that failed and `what` it was doing.
+/// others name the first rank that failed, `what` it was doing and its reason (rank 0 reports, and
+/// the reason is often on another rank: a part's failed CRC-32, a missing part).
 template <class Action>
 void on_every_rank(parallel::Communicator& ranks, const std::string& what, Action action) {
   std::exception_ptr failure;
+  std::optional<std::string> reason;
   try {
     action();
+  } catch (const std::exception& e) {
+    failure = std::current_exception();
+    reason = e.what();
   } catch (...) {
     failure = std::current_exception();
+    reason = "an unknown error";
   }
-  const std::optional<int> failed = parallel::first_failed_rank(ranks, failure != nullptr);
+  const std::optional<parallel::RankFailure> failed = parallel::first_failure(ranks, reason);
   if (failure) std::rethrow_exception(failure);
-  if (failed) throw CheckpointError(fmt::format("rank {} failed: {}", *failed, what));
+  if (failed) throw CheckpointError(fmt::format("rank {} failed: {}: {}", failed->rank, what, failed->message));
 }
 
 std::filesystem::path part_file(const std::filesystem::path& manifest, std::int64_t step, int rank) {
   return checkpoint_parts_directory(manifest) / fmt::format("step-{:012}", step) / fmt::format("rank-{:05}.bin", rank);
 }
 
+// A name of the parts layout: `prefix` followed by exactly `digits` decimal digits, then `suffix`.
+bool numbered_name(const std::string& name, std::string_view prefix, std::size_t digits, std::string_view suffix) {
+  if (name.size() != prefix.size() + digits + suffix.size() || !name.starts_with(prefix) || !name.ends_with(suffix))
+    return false;
+  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(prefix.size()),
+                     name.end() - static_cast<std::ptrdiff_t>(suffix.size()),
+                     [](char c) { return c >= '0' && c <= '9'; });
+}
+
+bool step_folder_name(const std::string& name) { return numbered_name(name, "step-", 12, ""); }
+
+// A part (rank-NNNNN.bin) or its temporary, with a checkpoint's signature (the temporary may be cut
+// before it).
+bool settle_part_file(const std::filesystem::path& file) {
+  const std::string name = file.filename().string();
+  if (numbered_name(name, "rank-", 5, ".bin")) return is_checkpoint_file(file);
+  return numbered_name(name, "rank-", 5, ".bin.tmp") && is_checkpoint_file(file, true);
+}
+
 /// The parts of other steps than `step` (earlier checkpoints, or a later one whose manifest was
 /// never written); best effort: what stays behind is removed after the next checkpoint.
 void remove_parts_except(const std::filesystem::path& manifest, std::int64_t step) {
-  std::error_code error;
-  const std::filesystem::path keep = part_file(manifest, step, 0).parent_path();
-  for (const auto& entry : std::filesystem::directory_iterator(checkpoint_parts_directory(manifest), error))
-    if (entry.path() != keep) std::filesystem::remove_all(entry.path(), error);
+  remove_checkpoint_parts(manifest, part_file(manifest, step, 0).parent_path().filename().string());
 }
 
 void write_split_checkpoint(const Simulation& sim, const CheckpointCallerData& caller,
@@ -474,6 +497,38 @@ void write_split_checkpoint(const Simulation& sim, const CheckpointCallerData& c
 
 std::filesystem::path checkpoint_parts_directory(const std::filesystem::path& file) {
   return file.parent_path() / (file.filename().string() + ".parts");
+}
+
+std::optional<std::filesystem::path> foreign_entry_in_parts(const std::filesystem::path& file) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path parts = checkpoint_parts_directory(file);
+  const fs::file_status status = fs::symlink_status(parts, error);
+  if (!fs::exists(status)) return std::nullopt;
+  if (!fs::is_directory(status)) return parts;
+  for (const auto& step : fs::directory_iterator(parts, error)) {
+    if (!step_folder_name(step.path().filename().string()) || !fs::is_directory(step.symlink_status(error)))
+      return step.path();
+    for (const auto& part : fs::directory_iterator(step.path(), error))
+      if (!settle_part_file(part.path())) return part.path();
+  }
+  if (error) return parts;  // unreadable: nothing in it can be told apart
+  return std::nullopt;
+}
+
+void remove_checkpoint_parts(const std::filesystem::path& file, const std::string& keep_step_folder) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path parts = checkpoint_parts_directory(file);
+  if (!fs::is_directory(fs::symlink_status(parts, error))) return;
+  for (const auto& step : fs::directory_iterator(parts, error)) {
+    const std::string name = step.path().filename().string();
+    if (name == keep_step_folder || !step_folder_name(name) || !fs::is_directory(step.symlink_status(error))) continue;
+    for (const auto& part : fs::directory_iterator(step.path(), error))
+      if (settle_part_file(part.path())) fs::remove(part.path(), error);
+    fs::remove(step.path(), error);  // only when it is now empty
+  }
+  fs::remove(parts, error);  // only when it is now empty
 }
 
 void write_checkpoint(const Simulation& sim, const CheckpointCallerData& caller, const std::filesystem::path& file) {

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,17 @@ void write_checkpoint(const Simulation& simulation, const CheckpointCallerData& 
 
 /// Where the parts of a checkpoint written across processes lie: FILE.parts beside it.
 std::filesystem::path checkpoint_parts_directory(const std::filesystem::path& file);
+
+/// The first entry under checkpoint_parts_directory(file) that settle did not write: anything but
+/// step-NNNNNNNNNNNN folders holding rank-NNNNN.bin parts (and their .tmp) with a checkpoint's
+/// signature; the folder itself when it is not a folder. None when every entry is a part, or
+/// there is no such folder.
+std::optional<std::filesystem::path> foreign_entry_in_parts(const std::filesystem::path& file);
+
+/// Removes the parts under checkpoint_parts_directory(file), but those of the step folder named
+/// `keep_step_folder` (empty: none) and anything foreign_entry_in_parts would name; then the
+/// folders left empty. Best effort: what cannot be removed stays.
+void remove_checkpoint_parts(const std::filesystem::path& file, const std::string& keep_step_folder = "");
 
 /// A checkpoint's split: written by `ranks` processes (1: a whole checkpoint), the part of `rank`,
 /// the step its parts were written at.

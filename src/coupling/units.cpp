@@ -79,6 +79,14 @@ UnitConverter make_unit_converter(const UnitInputs& in) {
   const UnitConverter units(dx_si, dt_si, in.fluid_density_si, nu_si);
   if (units.tau() < in.min_tau) {
     const double reynolds = in.expected_speed_si * in.equivalent_diameter_si / nu_si;
+    // tau - 1/2 below 1e-16 rounds away (tau == 0.5): no grid resolves such a flow, and the cells
+    // the message below would ask for come out infinite. The fluid's numbers are the likely fault.
+    if (!(units.tau() > 0.5))
+      throw InputError(fmt::format(
+          "fluid.dynamic_viscosity, fluid.density: the expected Reynolds number {:.4g} (kinematic viscosity {:.4g} "
+          "m^2/s) is beyond any grid: tau rounds to 0.5 in double precision; check fluid.dynamic_viscosity and "
+          "fluid.density",
+          reynolds, nu_si));
     throw InputError(fmt::format(
         "numerics.cells_per_diameter: {} cells per diameter under-resolve the flow (expected Re = {:.4g}): the "
         "Mach bound numerics.max_lattice_velocity = {} forces tau = {:.6f} below the safe minimum {}; raise "

@@ -19,6 +19,9 @@ namespace settle::io {
 /// the last step, m, kNoWallGap without contact walls). New columns are only ever appended.
 const std::vector<std::string>& timeseries_columns();
 
+/// How many of timeseries_columns() are the contract (t .. Re).
+inline constexpr std::size_t kContractColumnCount = 27;
+
 /// wall_gap of timeseries.csv when the run has no contact walls (a following window, periodic
 /// axes, contact off, towed or fixed bodies) and at t = 0: the file holds finite numbers only.
 inline constexpr double kNoWallGap = -1.0;

@@ -53,11 +53,39 @@ void require_finite(const Eigen::Vector3d& value, std::string_view key) {
           fmt::format("{}: every component must be finite, got [{}, {}, {}]", key, value[0], value[1], value[2]));
 }
 
+// The kinematic viscosity nu = mu / rho_f sets tau and dt: a quotient that leaves double precision
+// (fluid.density = 1e308 gives 1e-311, subnormal) made the resolution check ask for "at least inf"
+// cells per diameter.
+void check_kinematic_viscosity(const coupling::SimulationSetup& s) {
+  const double nu = s.dynamic_viscosity_si / s.fluid_density_si;
+  if (std::isfinite(nu) && nu >= std::numeric_limits<double>::min()) return;
+  throw InputError(
+      fmt::format("fluid.dynamic_viscosity, fluid.density: the kinematic viscosity {} Pa s / {} kg/m^3 = {:.4g} m^2/s "
+                  "is not representable in double precision; check fluid.density and fluid.dynamic_viscosity",
+                  s.dynamic_viscosity_si, s.fluid_density_si, nu));
+}
+
+// The rigid body needs a mass and principal moments of inertia that are normal doubles: a density
+// such as 1e-320 kg/m^3 is positive, but the mass underflows to 0 and the body cannot be built.
+void check_mass_representable(const coupling::SimulationSetup& s) {
+  const body::MassProperties m = s.shape->mass_properties(s.particle_density_si);
+  const Eigen::Vector3d& moments = m.principal.moments;
+  const auto representable = [](double x) { return std::isfinite(x) && x >= std::numeric_limits<double>::min(); };
+  if (representable(m.mass) && representable(moments.minCoeff()) && std::isfinite(moments.maxCoeff())) return;
+  throw InputError(fmt::format(
+      "particle.density: {} kg/m^3 gives the particle (volume {:.4g} m^3) a mass of {:.4g} kg and moments of "
+      "inertia from {:.4g} to {:.4g} kg m^2, which double precision cannot represent (it needs finite numbers "
+      "above {:.3g}); check particle.density and the particle's size",
+      s.particle_density_si, m.volume, m.mass, moments.minCoeff(), moments.maxCoeff(),
+      std::numeric_limits<double>::min()));
+}
+
 void check_numbers(const coupling::SimulationSetup& s) {
   if (!s.shape) throw std::invalid_argument("preflight: the set-up has no shape");
   require_positive(s.particle_density_si, "particle.density");
   require_positive(s.fluid_density_si, "fluid.density");
   require_positive(s.dynamic_viscosity_si, "fluid.dynamic_viscosity");
+  check_kinematic_viscosity(s);
   require_finite(s.gravity_si, "fluid.gravity");
   require_finite(s.body_force_si, "fluid.body_force");
   for (int a = 0; a < 3; ++a) require_positive(s.domain_size_si[a], "domain.size");
@@ -72,9 +100,16 @@ void check_numbers(const coupling::SimulationSetup& s) {
   require_positive(s.end_time_si, "run.end_time");
   require_finite(s.output_interval_si, "run.output_interval");
   require_positive(s.shape->equivalent_diameter(), "particle (its volume-equivalent diameter)");
+  check_mass_representable(s);
 }
 
 // ---- 2. units -----------------------------------------------------------------------------
+
+// When the viscous bound (tau at numerics.max_tau) sets dt, a dt too small to count comes from the
+// fluid's viscosity, not from run.end_time.
+bool viscosity_sets_dt(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
+  return !s.tau && plan.units.tau() >= s.max_tau * (1.0 - 1e-9);
+}
 
 // The case's plan (coupling/case_plan.hpp, the same the Simulation is built on): it refuses what
 // the set-up and the converter refuse. A second look at the time step guards against a change
@@ -83,6 +118,11 @@ coupling::CasePlan checked_plan(const coupling::SimulationSetup& s) {
   const coupling::CasePlan plan = coupling::plan_case(s);
   require_positive(plan.units.dt_si(),
                    "the time step dt (from numerics.max_tau, numerics.max_lattice_velocity, numerics.tau)");
+  if (plan.units.dt_si() < std::numeric_limits<double>::min())
+    throw InputError(fmt::format(
+        "fluid.dynamic_viscosity, fluid.density: the time step dt = {:.4g} s (kinematic viscosity {:.4g} m^2/s) is "
+        "below the smallest normal double; check fluid.dynamic_viscosity and fluid.density",
+        plan.units.dt_si(), plan.units.kinematic_viscosity_si()));
   const double u = plan.units.velocity(plan.expected_speed_si);
   if (!(u <= s.max_lattice_velocity * (1.0 + 1e-12)))
     throw InputError(
@@ -199,12 +239,18 @@ double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_
 }
 
 double checked_steps(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
-  if (!(plan.steps <= kMaxSteps))
-    throw InputError(
-        fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
-                    "count; lower run.end_time",
-                    s.end_time_si, plan.steps, plan.units.dt_si()));
-  return std::max(1.0, plan.steps);
+  if (plan.steps <= kMaxSteps) return std::max(1.0, plan.steps);
+  // Not even a second fits in 2^53 steps of this dt (1.1e-16 s): that is the fluid's doing.
+  if (viscosity_sets_dt(s, plan) && plan.units.dt_si() * kMaxSteps < 1.0)
+    throw InputError(fmt::format(
+        "fluid.dynamic_viscosity, fluid.density: the kinematic viscosity {:.4g} m^2/s sets dt = {:.4g} s (tau at "
+        "numerics.max_tau = {}), and run.end_time = {} s is then {:.3g} steps, more than the 2^53 a run can count; "
+        "check fluid.dynamic_viscosity and fluid.density, or lower run.end_time",
+        plan.units.kinematic_viscosity_si(), plan.units.dt_si(), s.max_tau, s.end_time_si, plan.steps));
+  throw InputError(
+      fmt::format("run.end_time: {} s is {:.3g} steps of dt = {:.4g} s, more than the 2^53 a run can "
+                  "count; lower run.end_time",
+                  s.end_time_si, plan.steps, plan.units.dt_si()));
 }
 
 // Rows kept in RunResult::samples: one at t = 0, one per output time, and the final state.
@@ -393,6 +439,24 @@ void check_particle_in_domain(const coupling::SimulationSetup& s, double dx_si, 
       s, dx_si, {static_cast<int>(cells[0]), static_cast<int>(cells[1]), static_cast<int>(cells[2])});
 }
 
+void check_particle_narrower_than_domain(const coupling::SimulationSetup& s) {
+  const FaceClearance c =
+      face_clearance(*s.shape, s.initial.position_si, s.initial.attitude.body_to_inertial(), s.domain_size_si);
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (c.width_si[a] < s.domain_size_si[static_cast<Eigen::Index>(a)]) continue;
+    // A mesh in millimetres read as metres is a thousand times too large: say so where it helps.
+    const bool mesh = s.shape->kind() == "mesh";
+    throw InputError(fmt::format(
+        "domain.size: the particle is {:.4g} m wide along {} at its initial attitude (particle.euler; its "
+        "volume-equivalent diameter is {:.4g} m) but the domain is only {:.4g} m{}; {}",
+        c.width_si[a], kAxis[a], s.shape->equivalent_diameter(), s.domain_size_si[static_cast<Eigen::Index>(a)],
+        s.boundaries[a] == lbm::Boundary::periodic ? ", and periodic: the particle would overlap its own image" : "",
+        mesh ? "if the mesh's coordinates are not in metres, set particle.scale (e.g. 0.001 for millimetres); "
+               "otherwise enlarge domain.size"
+             : fmt::format("enlarge domain.size along {}", kAxis[a])));
+  }
+}
+
 void check_net_weight(const coupling::SimulationSetup& s) {
   if (s.motion != body::MotionKind::free) return;
   const double excess_density = s.particle_density_si - s.fluid_density_si;
@@ -445,6 +509,7 @@ std::string PreflightReport::summary() const {
 
 PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOptions& options) {
   check_numbers(s);
+  check_particle_narrower_than_domain(s);
   PreflightReport r(checked_plan(s));
   check_net_weight(s);
   const double dx_si = r.plan.units.dx_si(), dt_si = r.plan.units.dt_si();

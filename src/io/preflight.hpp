@@ -111,6 +111,12 @@ void check_particle_in_domain(const coupling::SimulationSetup& setup, double dx_
 /// gravity has a component, whether the particle rises or sinks.
 void check_net_weight(const coupling::SimulationSetup& setup);
 
+/// Before the resolution is judged: the particle, at its initial attitude, narrower than the domain
+/// along every axis (settle::InputError naming domain.size, and particle.scale for a mesh: a mesh in
+/// millimetres read as metres used to be reported as a resolution to raise to 796 952 cells per
+/// diameter, or as a domain of 0 cells).
+void check_particle_narrower_than_domain(const coupling::SimulationSetup& setup);
+
 /// Step 7: `dir` exists and is a writable directory, or can be created (its nearest existing
 /// ancestor is a writable directory). `flag` names the option in messages ("-o").
 void check_output_directory(const std::filesystem::path& dir, std::string_view flag = "-o");

@@ -13,6 +13,16 @@
 namespace settle::io {
 namespace {
 
+// A value or an assignment as a message shows it: at most `max_bytes`, cut at a character boundary
+// (UTF-8) and ended with "...". A 10 MB string or a 1.5-million-number array once filled a single
+// line of stderr.
+std::string shortened(std::string_view text, std::size_t max_bytes = 80) {
+  if (text.size() <= max_bytes) return std::string(text);
+  std::size_t cut = max_bytes - 3;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // a continuation byte
+  return std::string(text.substr(0, cut)) + "...";
+}
+
 std::string format_number(double v) {
   // Shortest text that reads back to the same double; TOML needs a '.' or exponent in floats.
   std::string s = fmt::format("{}", v);
@@ -122,9 +132,7 @@ std::optional<std::string> suggest_table(const Schema& schema, std::string_view 
 std::string node_text(const toml::node& node) {
   std::ostringstream out;
   node.visit([&](auto&& n) { out << n; });
-  std::string s = out.str();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
+  return shortened(out.str(), 60);
 }
 
 void walk(const toml::table& table, const std::string& prefix, CaseValues& values, std::string_view origin) {
@@ -266,7 +274,7 @@ std::optional<std::string> Schema::suggest(std::string_view path) const {
 }
 
 std::string check_value(const KeySpec& spec, const Value& value) {
-  const std::string shown = to_toml(value);
+  const std::string shown = shortened(to_toml(value));
   const auto fail = [&](const std::string& what) {
     return fmt::format("{} = {}: must be {}{}", display_key(spec.path), shown, what,
                        spec.unit.empty() ? "" : fmt::format(" ({})", spec.unit));
@@ -383,16 +391,17 @@ std::string override_key(std::string_view assignment) {
 }
 
 void apply_override(CaseValues& values, std::string_view assignment) {
+  const std::string shown = shortened(assignment);  // the assignment as messages quote it
   const auto eq = assignment.find('=');
   const std::string path = override_key(assignment);
   if (eq == std::string_view::npos || path.empty())
-    throw InputError(fmt::format("--set {}: expected key=value, e.g. --set fluid.density=1000", assignment));
+    throw InputError(fmt::format("--set {}: expected key=value, e.g. --set fluid.density=1000", shown));
   const Schema& schema = values.schema();
   const KeySpec* spec = schema.find(path);
   if (!spec && is_table_path(schema, path)) {
     const std::string keys = keys_under(schema, path);
     throw InputError(fmt::format("--set {}: {} is a table; set its keys ({}) one at a time, e.g. --set {}.{}=...",
-                                 assignment, path, keys, path, keys.substr(0, keys.find(','))));
+                                 shown, path, keys, path, keys.substr(0, keys.find(','))));
   }
   if (!spec) {
     // Dotted names here: that is how a key is written on the command line.
@@ -405,7 +414,7 @@ void apply_override(CaseValues& values, std::string_view assignment) {
   }
   const std::string_view text = assignment.substr(eq + 1);
   if (std::all_of(text.begin(), text.end(), is_space))
-    throw InputError(fmt::format("--set {}: no value after '='; expected {}", assignment, to_string(spec->kind)));
+    throw InputError(fmt::format("--set {}: no value after '='; expected {}", shown, to_string(spec->kind)));
   const std::string document = "v = " + std::string(text);
   toml::table table;
   try {
@@ -413,14 +422,14 @@ void apply_override(CaseValues& values, std::string_view assignment) {
   } catch (const toml::parse_error& e) {
     if (spec->kind == Kind::String)
       throw InputError(fmt::format("--set {}: not a TOML value; a string needs double quotes, e.g. --set '{}=\"{}\"'",
-                                   assignment, path, text));
-    throw InputError(fmt::format("--set {}: the value is not valid TOML ({}); expected {}", assignment, e.description(),
+                                   shown, path, shortened(text)));
+    throw InputError(fmt::format("--set {}: the value is not valid TOML ({}); expected {}", shown, e.description(),
                                  to_string(spec->kind)));
   }
   // "--set 'a=1\nb=2'" parses as two keys: only one value may follow the '='.
-  if (table.size() != 1) throw InputError(fmt::format("--set {}: expected a single value after '='", assignment));
+  if (table.size() != 1) throw InputError(fmt::format("--set {}: expected a single value after '='", shown));
   auto value = value_from_node(*table.get("v"), spec->kind);
-  if (!value) throw InputError(fmt::format("--set {}: expected {} for {}", assignment, to_string(spec->kind), path));
+  if (!value) throw InputError(fmt::format("--set {}: expected {} for {}", shown, to_string(spec->kind), path));
   values.set(path, std::move(*value), "--set");
 }
 

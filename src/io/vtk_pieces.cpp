@@ -174,9 +174,11 @@ void write_fluid_pieces(const std::filesystem::path& pvti, const coupling::Simul
   } catch (const std::exception& e) {
     failure = e.what();
   }
-  if (const auto failed = parallel::first_failed_rank(ranks, !failure.empty())) {
+  if (const auto failed =
+          parallel::first_failure(ranks, failure.empty() ? std::nullopt : std::optional<std::string>(failure))) {
     if (!failure.empty()) throw InputError(fmt::format("VTK output: {}", failure));
-    throw InputError(fmt::format("VTK output: rank {} could not write its piece of {}", *failed, pvti.string()));
+    throw InputError(fmt::format("VTK output: rank {} could not write its piece of {}: {}", failed->rank, pvti.string(),
+                                 failed->message));
   }
   if (ranks.rank() != 0) return;
   const lbm::BlockSplit& split = *sim.fluid().config().split;

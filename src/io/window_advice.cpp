@@ -69,8 +69,13 @@ std::optional<WindowClearance> case_clearance(const coupling::SimulationSetup& s
   WindowClearance c{kFar, kFar, kFar};
   for (int a = 0; a < 3; ++a) {
     if (a == axis) continue;
-    const bool open = s.follow_particle || s.boundaries[static_cast<std::size_t>(a)] != lbm::Boundary::no_slip;
-    if (open) c.side_d = std::min({c.side_d, p[a] / d_eq_si, (size[a] - p[a]) / d_eq_si});
+    const lbm::Boundary wall = s.boundaries[static_cast<std::size_t>(a)];
+    // A periodic side has no face: the neighbour is the body's image one period away, so the room
+    // is half the period wherever the body sits (a periodic box is translation-invariant).
+    if (wall == lbm::Boundary::periodic)
+      c.side_d = std::min(c.side_d, 0.5 * size[a] / d_eq_si);
+    else if (s.follow_particle || wall != lbm::Boundary::no_slip)
+      c.side_d = std::min({c.side_d, p[a] / d_eq_si, (size[a] - p[a]) / d_eq_si});
   }
   const bool stream = (s.inflow && s.inflow->axis == axis) || (s.outflow && s.outflow->axis == axis);
   if (s.follow_particle || stream) {

@@ -33,7 +33,8 @@ WindowClearance needed_clearance(double reynolds);
 /// The case's clearances, for a body that travels along a grid axis in a window whose faces stand
 /// for unbounded fluid: sides that are free-slip or periodic or follow the body, ends that follow
 /// the body or let the stream in and out. A face of a physical container (a no-slip tank that
-/// stays put) counts as infinitely far. nullopt when the travel is not along an axis.
+/// stays put) counts as infinitely far; a periodic side as half the period away (the body's image
+/// is a period away, wherever the body sits). nullopt when the travel is not along an axis.
 std::optional<WindowClearance> case_clearance(const coupling::SimulationSetup& setup, double equivalent_diameter_si);
 
 /// The advisory for a case tighter than needed_clearance, naming domain.size; nullopt otherwise.

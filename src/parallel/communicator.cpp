@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -199,6 +200,24 @@ std::optional<int> first_failed_rank(Communicator& communicator, bool failed) {
   const std::vector<std::vector<double>> flags = communicator.gather_all({failed ? 1.0 : 0.0});
   for (std::size_t r = 0; r < flags.size(); ++r)
     if (flags[r].at(0) > 0.0) return static_cast<int>(r);
+  return std::nullopt;
+}
+
+std::optional<RankFailure> first_failure(Communicator& communicator, const std::optional<std::string>& mine) {
+  // The messages travel as doubles, one byte each (exact): a flag, then the bytes.
+  constexpr std::size_t kMaxMessageBytes = 4096;
+  std::vector<double> packed{mine ? 1.0 : 0.0};
+  if (mine)
+    for (std::size_t i = 0; i < std::min(mine->size(), kMaxMessageBytes); ++i)
+      packed.push_back(static_cast<double>(static_cast<unsigned char>((*mine)[i])));
+  const std::vector<std::vector<double>> all = communicator.gather_all(packed);
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    if (!(all[r].at(0) > 0.0)) continue;
+    RankFailure failure{static_cast<int>(r), {}};
+    for (std::size_t i = 1; i < all[r].size(); ++i)
+      failure.message.push_back(static_cast<char>(static_cast<unsigned char>(all[r][i])));
+    return failure;
+  }
   return std::nullopt;
 }
 

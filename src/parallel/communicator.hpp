@@ -66,6 +66,15 @@ std::vector<double> sum_in_rank_order(Communicator& communicator, const std::vec
 /// followed by this, so that all ranks go on or all stop together.
 std::optional<int> first_failed_rank(Communicator& communicator, bool failed);
 
+/// As first_failed_rank, with the reason: `mine` is this rank's failure message (none: it did
+/// not fail). Every rank gets the first failed rank and its message (cut to 4096 bytes), so that
+/// rank 0, which reports, can say why another rank failed.
+struct RankFailure {
+  int rank = 0;
+  std::string message;
+};
+std::optional<RankFailure> first_failure(Communicator& communicator, const std::optional<std::string>& mine);
+
 /// True when this process was started by an MPI launcher (the environment variables OpenMPI's
 /// mpirun, Hydra and Slurm's PMI set for their processes).
 bool launched_by_mpi();

@@ -71,19 +71,37 @@ int first_difference(const fs::path& dir, const std::vector<std::string>& texts)
 
 std::string case_folder(int index) { return fmt::format("case_{:04d}", index); }
 
-void prepare_study_directory(const StudySpec& spec, const std::vector<StudyCase>& cases, const fs::path& dir) {
+namespace {
+
+std::vector<std::string> case_texts(const StudySpec& spec, const std::vector<StudyCase>& cases) {
   std::vector<std::string> texts;
   texts.reserve(cases.size());
   for (const StudyCase& c : cases) texts.push_back(case_text(spec, c));
+  return texts;
+}
+
+// True when `dir` holds this study already (resume); InputError when it holds another.
+bool holds_this_study(const fs::path& dir, const std::vector<std::string>& texts) {
   std::error_code error;
-  if (fs::exists(dir / "study.json", error)) {
-    const int differs = first_difference(dir, texts);
-    if (differs >= 0)
-      throw InputError(fmt::format(
-          "-o {}: holds another study (its case {} differs from this study's); choose another directory, or remove it",
-          dir.string(), differs));
-    return;  // the same study: resume
-  }
+  if (!fs::exists(dir / "study.json", error)) return false;
+  const int differs = first_difference(dir, texts);
+  if (differs >= 0)
+    throw InputError(fmt::format(
+        "-o {}: holds another study (its case {} differs from this study's); choose another directory, or remove it",
+        dir.string(), differs));
+  return true;
+}
+
+}  // namespace
+
+void check_study_directory(const StudySpec& spec, const std::vector<StudyCase>& cases, const fs::path& dir) {
+  holds_this_study(dir, case_texts(spec, cases));
+}
+
+void prepare_study_directory(const StudySpec& spec, const std::vector<StudyCase>& cases, const fs::path& dir) {
+  const std::vector<std::string> texts = case_texts(spec, cases);
+  if (holds_this_study(dir, texts)) return;  // the same study: resume
+  std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
   for (std::size_t i = 0; i < cases.size(); ++i) {

@@ -17,6 +17,11 @@ namespace settle::study {
 /// The folder of case `index` inside the study directory ("case_0007").
 std::string case_folder(int index);
 
+/// Reads `dir` (changes nothing): settle::InputError when it holds another study (a case.toml that
+/// differs from this study's), naming the first case that differs.
+void check_study_directory(const StudySpec& spec, const std::vector<StudyCase>& cases,
+                           const std::filesystem::path& dir);
+
 /// Writes the plan and each case's case.toml into `dir` (created when missing). When `dir` already
 /// holds a study, its cases must be the same (case.toml byte for byte): settle::InputError
 /// otherwise, naming the first that differs, and nothing is written.

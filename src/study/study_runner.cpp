@@ -1,10 +1,11 @@
 #include "study/study_runner.hpp"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -16,9 +17,9 @@
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/file_lock.hpp"
+#include "common/stop_signals.hpp"
 #include "study/study_directory.hpp"
-
-extern char** environ;
 
 namespace settle::study {
 namespace {
@@ -30,7 +31,8 @@ std::atomic<int> g_stop_signal{0};
 
 extern "C" void on_stop_signal(int signal_number) { g_stop_signal = signal_number; }
 
-// SIGINT and SIGTERM set a flag for the loop while run_study runs; the old handlers come back after.
+// The stop signals (common/stop_signals.hpp: SIGINT, SIGTERM, SIGHUP, ...) set a flag for the loop
+// while run_study runs; the old handlers come back after.
 class StopSignals {
  public:
   StopSignals() {
@@ -38,20 +40,17 @@ class StopSignals {
     struct sigaction action {};
     action.sa_handler = on_stop_signal;
     sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, &previous_int_);
-    sigaction(SIGTERM, &action, &previous_term_);
+    for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &action, &previous_[i]);
   }
   ~StopSignals() {
-    sigaction(SIGINT, &previous_int_, nullptr);
-    sigaction(SIGTERM, &previous_term_, nullptr);
+    for (std::size_t i = 0; i < kStopSignals.size(); ++i) sigaction(kStopSignals[i], &previous_[i], nullptr);
   }
   StopSignals(const StopSignals&) = delete;
   StopSignals& operator=(const StopSignals&) = delete;
   static bool raised() { return g_stop_signal != 0; }
 
  private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
+  std::array<struct sigaction, kStopSignals.size()> previous_{};
 };
 
 // settle run's arguments for a case: from the checkpoint an earlier attempt left, else afresh.
@@ -69,34 +68,50 @@ std::vector<std::string> run_arguments(const fs::path& case_dir, const RunnerOpt
           threads};
 }
 
-// Starts a case's run with its console appended to run.log; the child keeps SIGINT and SIGTERM at
-// their defaults (settle run installs its own), whatever this process does with them.
+// Starts a case's run with its console appended to run.log. The child keeps the stop signals at
+// their defaults (settle run installs its own), whatever this process does with them, and gets
+// SIGTERM when this process dies (PR_SET_PDEATHSIG): a study killed with SIGKILL left its running
+// case behind, still writing the case's directory, and the study run again to resume found that
+// case's lock held and reported it failed. SIGTERM makes the orphan write its checkpoint and end.
+// Between fork and exec only async-signal-safe calls are made.
 pid_t spawn_case(const fs::path& case_dir, const RunnerOptions& options) {
   const std::vector<std::string> arguments = run_arguments(case_dir, options);
   std::vector<char*> argv;
   for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   const std::string log = (case_dir / "run.log").string();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  sigset_t defaults;
-  sigemptyset(&defaults);
-  sigaddset(&defaults, SIGINT);
-  sigaddset(&defaults, SIGTERM);
-  posix_spawnattr_setsigdefault(&attributes, &defaults);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
-  pid_t pid = 0;
-  const int spawn_error = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attributes);
-  if (spawn_error != 0)
-    throw std::runtime_error(fmt::format("cannot start {}: {}", arguments[0], std::strerror(spawn_error)));
-  return pid;
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error(fmt::format("cannot start {}: fork: {}", arguments[0], std::strerror(errno)));
+  if (pid > 0) return pid;
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (::getppid() != parent) ::_exit(127);  // the study died before the line above took effect
+  for (const int signal_number : kStopSignals) ::signal(signal_number, SIG_DFL);
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0 || ::dup2(fd, STDOUT_FILENO) < 0 || ::dup2(fd, STDERR_FILENO) < 0) ::_exit(127);
+  ::execv(argv[0], argv.data());
+  ::_exit(127);
 }
+
+// A case an earlier settle run finished (its summary.json, the run's completion mark, which a run
+// removes when it starts) while its status still says otherwise (the study that started it was
+// killed): marked done rather than run again.
+bool mark_done_if_finished(const fs::path& case_dir) {
+  std::error_code error;
+  if (!fs::is_regular_file(case_dir / "summary.json", error)) return false;
+  CaseStatus status = read_case_status(case_dir);
+  status.state = CaseState::done;
+  status.exit_status = 0;
+  write_case_status(case_dir, status);
+  return true;
+}
+
+// A case whose directory a settle run still holds (a run an earlier study left behind, or started
+// by hand) is not started again: its run would be refused by the lock and reported failed.
+bool case_run_alive(const fs::path& case_dir) { return lock_is_held(case_dir / kRunLockFileName); }
 
 int exit_status_of(int wait_status) {
   if (WIFEXITED(wait_status)) return WEXITSTATUS(wait_status);
@@ -140,7 +155,8 @@ class StudyLoop {
     std::size_t next = 0;
     report();
     auto last_report = Clock::now();
-    while (next < pending_.size() || !running_.empty()) {
+    while (next < pending_.size() || !running_.empty() || !waiting_.empty()) {
+      start_waiting();
       while (!StopSignals::raised() && next < pending_.size() && static_cast<int>(running_.size()) < options_.jobs)
         start(pending_[next++]);
       if (StopSignals::raised()) stop_all();
@@ -151,6 +167,7 @@ class StudyLoop {
       if (StopSignals::raised() && running_.empty()) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
+    outcome_.interrupted += static_cast<int>(waiting_.size());  // never started: run again to resume
     outcome_.stop_signal = g_stop_signal;
     return outcome_;
   }
@@ -160,12 +177,44 @@ class StudyLoop {
 
   void start(int index) {
     const fs::path case_dir = dir_ / case_folder(index);
+    if (case_run_alive(case_dir)) {
+      waiting_.push_back(index);
+      if (options_.progress)
+        options_.progress(
+            fmt::format("{}: a settle run started earlier (by an earlier study run?) is still writing "
+                        "it; waiting for it to end",
+                        case_folder(index)));
+      return;
+    }
+    if (mark_done_if_finished(case_dir)) {
+      ++outcome_.done;
+      return;
+    }
     CaseStatus status = read_case_status(case_dir);
     status.state = CaseState::running;
     ++status.attempts;
     write_case_status(case_dir, status);
     const pid_t pid = spawn_case(case_dir, options_);
     running_.emplace(pid, Running{index, case_dir, status, Clock::now()});
+  }
+
+  // The waiting cases whose earlier run has ended: done when it finished (its summary.json), else
+  // started (from the checkpoint it left, if any) when a job is free.
+  void start_waiting() {
+    for (auto it = waiting_.begin(); it != waiting_.end();) {
+      const fs::path case_dir = dir_ / case_folder(*it);
+      if (case_run_alive(case_dir) || StopSignals::raised()) {
+        ++it;
+        continue;
+      }
+      if (static_cast<int>(running_.size()) < options_.jobs) {
+        start(*it);  // done at once when the earlier run finished the case
+      } else {
+        ++it;
+        continue;
+      }
+      it = waiting_.erase(it);
+    }
   }
 
   // settle run writes its checkpoint on SIGTERM; a case already stopping is sent it again harmlessly.
@@ -233,6 +282,7 @@ class StudyLoop {
   Clock::time_point start_;
   StudyOutcome outcome_;
   std::vector<int> pending_;
+  std::vector<int> waiting_;  ///< cases an earlier run still holds (case_run_alive)
   std::map<pid_t, Running> running_;
   double finished_seconds_ = 0.0;
   bool stopping_ = false;
@@ -260,6 +310,9 @@ int run_study_case(const fs::path& dir, int index, const RunnerOptions& options)
   const fs::path case_dir = dir / case_folder(index);
   CaseStatus status = read_case_status(case_dir);
   if (status.state == CaseState::done) return 0;
+  while (case_run_alive(case_dir)) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  if (mark_done_if_finished(case_dir)) return 0;  // the run that held it finished the case
+  status = read_case_status(case_dir);
   status.state = CaseState::running;
   ++status.attempts;
   write_case_status(case_dir, status);

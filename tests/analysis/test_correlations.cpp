@@ -149,6 +149,21 @@ TEST(Predictions, DietrichThroughTheFullPathMatchesTheWorkedSpeed) {
   EXPECT_TRUE(p.in_range) << p.reason;
 }
 
+// At a viscosity of 1e-300 Pa s the Archimedes number D* is infinite and Dietrich's fit has no
+// velocity; the reason given was "Corey shape factor 1 <= 0.15" for a sphere (Corey factor 1).
+// It must name what failed: D* and W*, and not the shape factor.
+TEST(Predictions, DietrichsReasonAtAnExtremeViscosityNamesDStarNotTheShape) {
+  const body::Ellipsoid sphere = body::Ellipsoid::sphere(0.002);
+  const ParticleDescriptors particle =
+      describe_particle(sphere, 2500.0, Orientation::broadside, Eigen::Vector3d::UnitZ());
+  for (const double mu : {1e-300, 1e300}) {
+    const LawPrediction p = find(predict_terminal_velocities(particle, 998.0, mu, 9.81), "dietrich");
+    EXPECT_FALSE(p.state.solved) << mu;
+    EXPECT_EQ(p.reason.find("Corey"), std::string::npos) << p.reason;
+    EXPECT_NE(p.reason.find("D* = "), std::string::npos) << p.reason;
+  }
+}
+
 // ------------------------------------------------------------------ sphere limits
 
 TEST(SphereLimits, EachShapeLawReducesToItsOwnSphereForm) {

@@ -43,13 +43,18 @@ inline std::filesystem::path write_scratch_case(const std::string& name, const s
 /// Runs `settle <subcommand> <arguments>` through the shell and captures stdout and stderr. With
 /// SETTLE_LAUNCHER set (e.g. "mpirun -n 2", as tests/app/CMakeLists.txt does for the malformed
 /// inputs), the command runs under it.
-inline CliResult run_settle(const std::string& subcommand, const std::string& arguments) {
+/// With `working_directory`, the command runs there; `shell_prefix` (e.g. "ulimit -f 200;") runs
+/// in the same shell before it.
+inline CliResult run_settle(const std::string& subcommand, const std::string& arguments,
+                            const std::filesystem::path& working_directory = {}, const std::string& shell_prefix = "") {
   const char* binary = std::getenv("SETTLE_BINARY");
   if (binary == nullptr) throw std::runtime_error("SETTLE_BINARY is not set");
   const char* launcher = std::getenv("SETTLE_LAUNCHER");
   const std::filesystem::path out = scratch("stdout"), err = scratch("stderr");
-  const std::string command = (launcher ? std::string(launcher) + " " : std::string()) + binary + " " + subcommand +
-                              " " + arguments + " > " + out.string() + " 2> " + err.string();
+  const std::string command =
+      shell_prefix + (working_directory.empty() ? std::string() : "cd '" + working_directory.string() + "' && ") +
+      (launcher ? std::string(launcher) + " " : std::string()) + binary + " " + subcommand + " " + arguments + " > " +
+      out.string() + " 2> " + err.string();
   const int raw = std::system(command.c_str());
   CliResult result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_text(out), read_text(err)};
   std::filesystem::remove(out);

@@ -148,6 +148,30 @@ void expect_rejected(const std::string& arguments, const std::string& flag) {
   EXPECT_NE(r.err.find(flag), std::string::npos) << arguments << "\n" << r.err;
 }
 
+// Body rates of 1e300 rad/s: the energy overflows, and every row after the first was NaN with exit
+// status 0. Refused (status 2, the flag named) before anything is written.
+TEST(AttitudeCli, RatesWhoseEnergyOverflowsAreRefused) {
+  const Result r = run_settle("--inertia 1,2,3 --omega 1e300,1e300,0 --dt 0.01 --t-end 1");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("--omega"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos);
+}
+
+// 1e100 rad/s (energy 1.5e200, finite) with dt = 0.01 s: RK4's second stage squares 1e198 and the
+// state is NaN after one step. The run stops with status 3 and a message, and every row written is
+// finite (the first one, t = 0).
+TEST(AttitudeCli, AStateThatIsNoLongerFiniteStopsTheRun) {
+  for (const char* method : {"dual-euler", "quaternion"}) {
+    const Result r =
+        run_settle(std::string("--inertia 1,2,3 --omega 1e100,1e100,0 --dt 0.01 --t-end 0.05 --method ") + method);
+    EXPECT_EQ(r.status, 3) << method << ": " << r.err;
+    EXPECT_NE(r.err.find("no longer finite"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--dt"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+  }
+}
+
 TEST(AttitudeCli, BadInputExitsWithStatus2NamingTheFlag) {
   const std::string run = " --dt 0.1 --t-end 1";
   expect_rejected("--inertia 1,2 --omega 0,0,1" + run, "--inertia");

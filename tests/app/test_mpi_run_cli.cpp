@@ -309,6 +309,46 @@ TEST(MpiRun, AStoppedRunContinuesUnderTheSameNumberOfProcesses) {
   fs::remove(out);
 }
 
+// A restart under mpirun whose rank 1 cannot use its part: a byte flipped in it, then the part
+// deleted. Rank 0 reports, and its message used to be only "rank 1 failed: reading its part of the
+// checkpoint under ..."; it now carries rank 1's reason, as the one-process restart gives it.
+TEST(MpiRun, ARanksFailedPartIsReportedWithItsReason) {
+  std::string text = kSphereCase;
+  text.replace(text.find("vtk_interval = 0.005"), 20, "checkpoint_interval = 0.015");
+  const fs::path case_path = write_scratch_case("mpi_bad_part", text);
+  const char* binary = std::getenv("SETTLE_BINARY");
+  ASSERT_NE(binary, nullptr);
+  const fs::path dir = scratch("mpi_bad_part");
+  const fs::path out = scratch("mpi_bad_part_out");
+  fs::remove_all(dir);
+  const std::string run = launcher(2) + binary + " run " + case_path.string() + " -o " + dir.string() +
+                          " --threads 1 --quiet > " + out.string() + " 2>&1";
+  ASSERT_EQ(std::system(run.c_str()), 0) << read_text(out);
+  fs::path part;
+  for (const auto& step : fs::directory_iterator(dir / "checkpoint.bin.parts")) part = step.path() / "rank-00001.bin";
+  ASSERT_TRUE(fs::exists(part));
+  const std::string restart = launcher(2) + binary + " run --restart " + dir.string() +
+                              " --set run.end_time=0.03 --quiet > " + out.string() + " 2>&1";
+  {
+    std::fstream file(part, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(static_cast<std::streamoff>(fs::file_size(part) / 2));
+    file.put('\x5a');
+  }
+  EXPECT_NE(std::system(restart.c_str()), 0);
+  std::string said = read_text(out);
+  EXPECT_NE(said.find("rank 1 failed: reading its part"), std::string::npos) << said;
+  EXPECT_NE(said.find("rank-00001.bin: section 'fluid/populations' fails its CRC-32 check"), std::string::npos) << said;
+  fs::remove(part);
+  EXPECT_NE(std::system(restart.c_str()), 0);
+  said = read_text(out);
+  EXPECT_NE(said.find("rank 1 failed: reading its part"), std::string::npos) << said;
+  EXPECT_NE(said.find("rank-00001.bin: cannot open the checkpoint: No such file or directory"), std::string::npos)
+      << said;
+  fs::remove_all(dir);
+  fs::remove(case_path);
+  fs::remove(out);
+}
+
 // `settle bench` under mpirun (docs/parallel.md, "Speed"): each rank benches its block and rank 0
 // prints one JSON with a row per rank. The ghost traffic is counted by the communicator, so it is
 // checked against its closed form: a 16^3 periodic box cut in two along z (1 x 1 x 2: the two

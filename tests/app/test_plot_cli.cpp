@@ -212,6 +212,20 @@ TEST(PlotCli, ReferenceNamedByTheRunIsDrawnAndAgreesWithItself) {
   fs::remove_all(run);
 }
 
+// A run stopped by a full disk leaves timeseries.csv with its last row cut mid-number: numpy
+// refused the table ("the number of columns changed from 29 to 16"). The cut row is left out with
+// a note, and the figures of the whole rows are drawn.
+TEST(PlotCli, ACutLastRowIsLeftOutWithANote) {
+  SKIP_WITHOUT_MATPLOTLIB();
+  const fs::path run = write_reference_run("plot_cut_row", tencate_e1());
+  std::ofstream(run / "timeseries.csv", std::ios::app) << "1.5,0.05,0.05,0.0123,0,0,-0.03";
+  const Result r = run_plot(run.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("its last row is incomplete"), std::string::npos) << r.err;
+  for (const char* figure : kFigures) expect_figure(run / "plots" / figure, r.out);
+  fs::remove_all(run);
+}
+
 TEST(PlotCli, ExplicitReferenceWinsAndAMismatchedCaseIsReported) {
   SKIP_WITHOUT_MATPLOTLIB();
   const fs::path run = write_reference_run("plot_reference_e2", tencate_e1());

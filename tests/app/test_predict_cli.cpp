@@ -160,6 +160,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--viscosity: required without a case file"},
         BadInput{"negative_diameter", "--shape sphere --diameter -1 --density 2650" + kWater, "",
                  "--diameter: must be finite and > 0, got -1"},
+        BadInput{"tiny_sphere", "--shape sphere --diameter 1e-200 --density 2500" + kWater, "",
+                 "--diameter: 1e-200 m is too small"},
         BadInput{"zero_gravity", kSphere + "--density 2650 --gravity 0" + kWater, "", "--gravity: must be > 0, got 0"},
         BadInput{"neutral", kSphere + "--density 998.2" + kWater, "", "--density: must differ from --fluid-density"},
         BadInput{"orientation", kSphere + "--density 2650 --orientation sideways" + kWater, "",

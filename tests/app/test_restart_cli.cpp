@@ -10,6 +10,10 @@
 //    status 128 + signal and no summary.json; the restart completes identically.
 //  - A finished run continued with --restart and --set run.end_time=T writes what one run to T
 //    writes (timeseries.csv and case.resolved.toml byte for byte, summary.json but the wall clock).
+//  - --restart continues only the run its checkpoint belongs to (docs/errors.md, "Promises"): a
+//    checkpoint copied from another run, a time series edited before the checkpoint and a mesh
+//    copy replaced by another mesh of the same mass and volume are refused; a checkpoint written
+//    before the fingerprint was recorded is continued with a warning.
 //  - --restart refuses a directory without a checkpoint, a truncated checkpoint, a case file beside
 //    it, --set of any other key and an end time not after the checkpoint: exit status 2, a message
 //    naming the file or flag, the directory untouched.
@@ -31,6 +35,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/checkpoint_file.hpp"
 
 namespace test_restart_cli {
 
@@ -266,6 +271,32 @@ TEST_F(RestartCli, InterruptedRunExits130WithACheckpoint) {
   fs::remove(scratch("restart_int.err"));
 }
 
+// SIGHUP (an ssh connection or terminal that went away) stops the run as SIGTERM does: a
+// checkpoint, a message, status 129, and a restart that continues to the uninterrupted result. It
+// used to end the run at once, without either.
+TEST_F(RestartCli, HangupStopsTheRunWithACheckpoint) {
+  const fs::path dir = scratch("restart_hup");
+  const fs::path err = scratch("restart_hup.err");
+  std::vector<std::string> arguments{"-o", dir.string()};
+  arguments.insert(arguments.end(), kCase.begin(), kCase.end());
+  Background run(arguments, err);
+  const bool ready = wait_until(run, [&] {
+    const std::vector<double> times = row_times(dir / "timeseries.csv");
+    return !times.empty() && times.back() > 0.006;  // after the first periodic checkpoint (0.005)
+  });
+  run.signal(SIGHUP);
+  const int status = run.wait();
+  ASSERT_TRUE(ready);
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 129);
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  const std::string message = read_text(err);
+  EXPECT_NE(message.find("interrupted by SIGHUP"), std::string::npos) << message;
+  EXPECT_GT(restart_and_compare(dir), 0.006);  // from the signal's checkpoint, not the periodic one
+  fs::remove_all(dir);
+  fs::remove(err);
+}
+
 // A run to 0.015 s with a checkpoint at its end, continued to 0.03 s, against the fixture's run to
 // 0.03 s with the same checkpoint interval (so that the two resolved cases may be compared whole).
 TEST_F(RestartCli, FinishedRunExtendedToALaterEndTimeWritesWhatOneLongerRunWrites) {
@@ -320,6 +351,122 @@ TEST_F(RestartCli, RefusalsExitTwoAndLeaveTheDirectoryUntouched) {
                  {"--set run.end_time=0.004", "later end time"});
   fs::remove_all(dir);
   fs::remove_all(with_checkpoint);
+}
+
+// ---- promise 2: a restart continues only the run its checkpoint belongs to ----------------------
+
+/// Rewrites a checkpoint without its section `name` (a checkpoint of an older settle).
+void drop_section(const fs::path& file, const std::string& name) {
+  std::vector<std::pair<std::string, std::vector<std::byte>>> sections;
+  {
+    const settle::CheckpointFile in(file);
+    for (const std::string& n : in.section_names())
+      if (n != name) {
+        const auto data = in.section(n);
+        sections.emplace_back(n, std::vector<std::byte>(data.begin(), data.end()));
+      }
+  }
+  settle::CheckpointWriter out;
+  for (auto& [n, data] : sections) out.add_copy(n, std::move(data));
+  out.write(file);
+}
+
+// Two runs of the default case to t = 0.015 s, particle densities 1100 and 1200 kg/m^3: the second
+// one's checkpoint copied into the first one's directory would splice its rows after the first
+// one's (docs/checkpoints.md); a time series edited in one digit before the checkpoint is the
+// same fault without a copy.
+TEST_F(RestartCli, ACheckpointOfAnotherRunOrAnEditedSeriesIsRefused) {
+  const fs::path dir = scratch("restart_mixed"), other = scratch("restart_mixed_other");
+  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + " --set run.end_time=0.015").status, 0);
+  ASSERT_EQ(
+      run_settle("-o " + other.string() + joined(kCase) + " --set run.end_time=0.015" + " --set particle.density=1200")
+          .status,
+      0);
+  const std::string series = read_text(dir / "timeseries.csv");
+  fs::copy_file(other / "checkpoint.bin", dir / "checkpoint.bin", fs::copy_options::overwrite_existing);
+  auto before = snapshot(dir);
+  Result r = run_settle("--restart " + dir.string() + " --set run.end_time=0.03");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("timeseries.csv is not the time series this checkpoint belongs to"), std::string::npos) << r.err;
+  EXPECT_TRUE(snapshot(dir) == before);
+
+  // The run's own checkpoint again, and one digit of the first row changed (same length).
+  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + " --set run.end_time=0.015").status, 0);
+  std::string edited = read_text(dir / "timeseries.csv");
+  const std::size_t row = edited.find('\n') + 1;                         // the first row, t = 0
+  const std::size_t digit = edited.find_first_of("123456789", row + 2);  // in x, after "0,"
+  edited[digit] = edited[digit] == '9' ? '8' : static_cast<char>(edited[digit] + 1);
+  std::ofstream(dir / "timeseries.csv", std::ios::binary) << edited;
+  before = snapshot(dir);
+  r = run_settle("--restart " + dir.string() + " --set run.end_time=0.03");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("timeseries.csv is not the time series"), std::string::npos) << r.err;
+  EXPECT_TRUE(snapshot(dir) == before);
+  EXPECT_EQ(series.size(), edited.size());
+  fs::remove_all(dir);
+  fs::remove_all(other);
+}
+
+/// An ASCII STL of a box with half-edges h (m), centred on the origin, its faces wound outward.
+std::string box_stl(const Eigen::Vector3d& h) {
+  const auto corner = [&](int i) {
+    return Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  };
+  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  std::string text = "solid box\n";
+  for (const auto& f : faces)
+    for (const auto& tri : {std::array<int, 3>{f[0], f[1], f[2]}, std::array<int, 3>{f[0], f[2], f[3]}}) {
+      text += "facet normal 0 0 0\nouter loop\n";
+      for (const int i : tri)
+        text += fmt::format("vertex {:.17g} {:.17g} {:.17g}\n", corner(i).x(), corner(i).y(), corner(i).z());
+      text += "endloop\nendfacet\n";
+    }
+  return text + "endsolid box\n";
+}
+
+// A 1 x 0.5 x 0.5 mm box, its mesh copy in DIR replaced by the same box turned 90 degrees about z
+// (0.5 x 1 x 0.5 mm): the same mass and volume, which were all a restart compared.
+TEST_F(RestartCli, AReplacedMeshIsRefused) {
+  const fs::path dir = scratch("restart_mesh");
+  const fs::path mesh = scratch("restart_mesh_box.stl");
+  std::ofstream(mesh) << box_stl({0.5e-3, 0.25e-3, 0.25e-3});
+  const fs::path case_file = settle::test::write_scratch_case(
+      "restart_mesh_case",
+      "[fluid]\ndensity = 998.2\ndynamic_viscosity = 1.0e-3\n"
+      "[particle]\nshape = \"mesh\"\nfile = \"" +
+          mesh.string() +
+          "\"\ndensity = 1100.0\n"
+          "position = [2.0e-3, 2.0e-3, 3.0e-3]\n"
+          "[domain]\nsize = [4.0e-3, 4.0e-3, 6.0e-3]\n[numerics]\ncells_per_diameter = 6\n"
+          "[run]\nend_time = 1.0e-3\noutput_interval = 5.0e-4\ncheckpoint_interval = 1.0e-3\n");
+  ASSERT_EQ(run_settle(case_file.string() + " -o " + dir.string() + " --threads 1").status, 0);
+  ASSERT_TRUE(fs::exists(dir / "particle_mesh.stl"));
+  std::ofstream(dir / "particle_mesh.stl") << box_stl({0.25e-3, 0.5e-3, 0.25e-3});
+  const auto before = snapshot(dir);
+  const Result r = run_settle("--restart " + dir.string() + " --set run.end_time=2e-3");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("particle_mesh.stl is not the input file this run started with"), std::string::npos) << r.err;
+  EXPECT_TRUE(snapshot(dir) == before);
+  fs::remove_all(dir);
+  fs::remove(mesh);
+  fs::remove(case_file);
+}
+
+// A checkpoint without the run's fingerprint (as settle wrote before it recorded one) is continued,
+// with a warning naming the file, to the same result as the run that went straight through:
+// refusing it would throw away the runs of long validation cases.
+TEST_F(RestartCli, ACheckpointWithoutTheFingerprintIsContinuedWithAWarning) {
+  const fs::path dir = scratch("restart_legacy");
+  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + " --set run.end_time=0.015").status, 0);
+  drop_section(dir / "checkpoint.bin", "caller/blob/run/fingerprint");
+  const Result r = run_settle("--restart " + dir.string() + " --set run.end_time=0.03");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find((dir / "checkpoint.bin").string() + ": written by a settle that did not record the run's "
+                                                           "fingerprint"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(*straight_ / "timeseries.csv"));
+  fs::remove_all(dir);
 }
 
 }  // namespace test_restart_cli

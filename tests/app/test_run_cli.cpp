@@ -408,4 +408,29 @@ TEST(RunCli, ASecondRunIntoALiveRunsDirectoryIsRefused) {
   EXPECT_EQ(third.status, 0) << third.err;
 }
 
+// A 1 mm glass sphere started 0.4 mm above the floor lands within 0.01 s and rests there (702
+// steps, under a second): over the averaged second half it is held by the wall, so its mean
+// velocity (a few 1e-5 m/s of jitter) is no terminal velocity, and the force balance's drag
+// coefficient came out 1.7e6, or negative, with no warning. The summary must give none, and say why.
+TEST(RunCli, ASphereRestingOnTheFloorGetsNoDragCoefficient) {
+  const fs::path dir = scratch("resting");
+  const fs::path case_path = settle::test::write_scratch_case(
+      "resting",
+      "[fluid]\ndensity = 998.2\ndynamic_viscosity = 1.0e-3\n"
+      "[particle]\nshape = \"sphere\"\ndiameter = 1.0e-3\ndensity = 2500.0\nposition = [2.0e-3, 2.0e-3, 0.9e-3]\n"
+      "[domain]\nsize = [4.0e-3, 4.0e-3, 4.0e-3]\n[numerics]\ncells_per_diameter = 6\n"
+      "[run]\nend_time = 0.04\noutput_interval = 1.0e-3\n");
+  const Result r = run_settle(case_path.string() + " -o " + dir.string() + " --threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
+  EXPECT_TRUE(summary["drag_coefficient"].is_null()) << summary["drag_coefficient"];
+  EXPECT_TRUE(summary["drag_coefficient_from_force"].is_null());
+  EXPECT_EQ(summary.value("wall_contact_samples", 0), summary["averaging"]["samples"].get<int>());
+  const std::string warnings = summary["analysis_warnings"].dump();
+  EXPECT_NE(warnings.find("touches a wall"), std::string::npos) << warnings;
+  EXPECT_NE(r.err.find("C_D = none"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+  fs::remove(case_path);
+}
+
 }  // namespace test_run_cli

@@ -150,6 +150,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"negative_diameter", "--shape sphere --diameter -1", "", "--diameter: must be finite and > 0, got -1"},
         BadInput{"missing_length", "--shape cylinder --diameter 1", "", "--length: required for shape 'cylinder'"},
         BadInput{"no_shape", "--density 2", "", "--shape: give a shape"},
+        // Sizes whose volume or moments of inertia leave double precision: 1e-160 m failed inside
+        // the surface area (an internal error, status 1), 1e120 m printed a volume of null.
+        BadInput{"tiny_sphere", "--shape sphere --diameter 1e-160", "", "--diameter: 1e-160 m is too small"},
+        BadInput{"huge_sphere", "--shape sphere --diameter 1e120", "", "--diameter: 1e+120 m is too large"},
+        BadInput{"tiny_cuboid", "--shape cuboid --size 1e-150,1e-150,1e-150", "",
+                 "--size (value 1 of 3): 1e-150 m is too small"},
         BadInput{"short_list", "--shape cuboid --size 1,2", "", "--size: expected 3 comma-separated numbers"},
         BadInput{"open_mesh", "--mesh " + data("open_box.stl").string(), "", "not watertight"},
         // Case files go through the case reader of `settle run`, so the messages are the schema's.

@@ -144,6 +144,58 @@ TEST(StudyCli, AFailedCaseDoesNotStopTheOthers) {
   EXPECT_EQ(state_of(out / "case_0001"), "failed");
 }
 
+/// Waits (at most 60 s) until `file` exists and holds at least `lines` lines.
+bool wait_for_lines(const fs::path& file, int lines) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    const std::string text = fs::exists(file) ? read_text(file) : std::string();
+    if (std::count(text.begin(), text.end(), '\n') >= lines) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+// A study killed with SIGKILL in the middle of a case, then run again at once: its settle run used
+// to go on as an orphan, so the second call's attempt found the case's lock held and reported the
+// case failed (exit 3). The orphan now gets SIGTERM when the study dies (it checkpoints), and a
+// case whose directory a run still holds is waited for, not started: the second call finishes.
+TEST(StudyCli, AStudyKilledMidCaseResumesAtOnce) {
+  const fs::path dir = fresh_dir("study_killed");
+  std::ofstream(dir / "study.toml") << study_text("reynolds = [10]", 1.0);
+  const fs::path out = dir / "out";
+  const std::string arguments = "run " + (dir / "study.toml").string() + " -o " + out.string() + " --threads 1";
+  const pid_t study =
+      spawn_settle({"study", "run", (dir / "study.toml").string(), "-o", out.string(), "--threads", "1"});
+  ASSERT_TRUE(wait_for_lines(out / "case_0000" / "timeseries.csv", 3));
+  ::kill(study, SIGKILL);
+  ASSERT_EQ(::waitpid(study, nullptr, 0), study);
+  const CliResult again = run_settle("study", arguments);
+  EXPECT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(state_of(out / "case_0000"), "done");
+  EXPECT_TRUE(fs::exists(out / "case_0000" / "summary.json"));
+}
+
+// Two `settle study run` into one directory at once: the second is refused (exit 2, naming the
+// lock) instead of running the cases the first is running and reporting them failed.
+TEST(StudyCli, ASecondStudyRunIntoALiveStudysDirectoryIsRefused) {
+  const fs::path dir = fresh_dir("study_twice");
+  std::ofstream(dir / "study.toml") << study_text("reynolds = [10, 20]", 0.5);
+  const fs::path out = dir / "out";
+  const pid_t first =
+      spawn_settle({"study", "run", (dir / "study.toml").string(), "-o", out.string(), "--threads", "1"});
+  ASSERT_TRUE(wait_for_lines(out / "case_0000" / "timeseries.csv", 2));
+  const CliResult second =
+      run_settle("study", "run " + (dir / "study.toml").string() + " -o " + out.string() + " --threads 1");
+  EXPECT_EQ(second.status, 2) << second.err;
+  EXPECT_NE(second.err.find("another settle study run is running this study"), std::string::npos) << second.err;
+  int status = 0;
+  ASSERT_EQ(::waitpid(first, &status, 0), first);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(state_of(out / "case_0000"), "done");
+  EXPECT_EQ(state_of(out / "case_0001"), "done");
+}
+
 // The job-array script's task command, run here without Slurm for task 1.
 TEST(StudyCli, TheSlurmScriptsTaskRunsItsCase) {
   const fs::path dir = fresh_dir("study_slurm");

@@ -260,6 +260,28 @@ TEST(MeshShape, ShellsWithMixedOrientationAreRefused) {
   }
 }
 
+TEST(MeshShape, NestedOutwardShellsAreRefused) {
+  // A 2 m box with a 0.8 m box inside, both wound outward: adding their volumes (8.512 instead of
+  // the 8 m^3 the outer surface encloses) would give the body 6.4% too much mass. Refused whichever
+  // shell comes first in the file; the disjoint pair above stays accepted.
+  const TriangleMesh outer = box_mesh(Eigen::Vector3d::Constant(2.0));
+  const TriangleMesh inner = box_mesh(Eigen::Vector3d::Constant(0.8), Eigen::Vector3d(0.1, -0.2, 0.05));
+  for (const bool inner_first : {false, true}) {
+    TriangleMesh mesh = inner_first ? inner : outer;
+    const TriangleMesh& second = inner_first ? outer : inner;
+    for (const auto& v : second.vertices) mesh.vertices.push_back(v);
+    for (const auto& t : second.triangles) mesh.triangles.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
+    try {
+      MeshShape shape(mesh, "nested");
+      ADD_FAILURE() << "accepted nested outward shells, volume " << shape.volume();
+    } catch (const InputError& e) {
+      const std::string expected =
+          inner_first ? "shell 1 (12 triangles) lies inside shell 2" : "shell 2 (12 triangles) lies inside shell 1";
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(MeshShape, MarkersMeetRequirements) {
   struct Case {
     const char* name;

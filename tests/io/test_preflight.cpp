@@ -263,10 +263,16 @@ TEST(ParticleInDomain, OverlapTooWideAndOutsideAreNamed) {
 
   s = small_setup();
   s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::sphere(7.0e-3));
-  s.domain_size_si = {6.0e-3, 6.0e-3, 8.0e-3};  // 7 x 7 x 9 cells of 0.875 mm: 6.125 mm across
+  // 7.2 mm is wider than the sphere, but rounds to 8 x 8 x 9 cells of 0.875 mm: 7 mm across, the
+  // grid's faces touching it (a domain narrower than the sphere is refused before, by its size).
+  s.domain_size_si = {7.2e-3, 7.2e-3, 8.0e-3};
   e = error_of([&] { preflight(s); });
   EXPECT_TRUE(contains(e, "domain.size: the particle is 0.007 m wide along x")) << e;
-  EXPECT_TRUE(contains(e, "7 cells")) << e;
+  EXPECT_TRUE(contains(e, "8 cells")) << e;
+  s.domain_size_si = {6.0e-3, 6.0e-3, 8.0e-3};
+  e = error_of([&] { preflight(s); });
+  EXPECT_TRUE(contains(e, "domain.size: the particle is 0.007 m wide along x")) << e;
+  EXPECT_TRUE(contains(e, "the domain is only 0.006 m")) << e;
 
   s = small_setup();
   s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::no_slip, lbm::Boundary::no_slip};
@@ -473,6 +479,23 @@ TEST(WindowAdvice, ClearancesAreMeasuredAlongTheTravelFromTheCentre) {
   // Travel off the grid's axes: no clearance to speak of.
   s.gravity_si = {-5.0, 0.0, -5.0};
   EXPECT_FALSE(case_clearance(s, 1.0e-3).has_value());
+}
+
+// A periodic side has no face: the body's neighbour is its image one period away, so the room is
+// half the period wherever the body sits (a periodic box is translation-invariant). A body on the
+// periodic face x = 0 was told it had 0 d_eq of room, the same body centred 2.5.
+TEST(WindowAdvice, APeriodicSideIsHalfThePeriodWhereverTheBodySits) {
+  coupling::SimulationSetup s = small_setup();  // 4 x 4 x 6 mm
+  s.motion = body::MotionKind::towed;
+  s.initial.velocity_si = {0.0, 0.0, -0.02};
+  s.follow_particle = true;
+  s.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::no_slip};
+  for (const double x_si : {0.0, 0.7e-3, 2.0e-3}) {
+    s.initial.position_si = {x_si, 2.0e-3, 3.0e-3};
+    const auto c = case_clearance(s, 1.0e-3);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_NEAR(c->side_d, 2.0, 1e-12) << x_si;  // half of 4 mm, in 1 mm diameters
+  }
 }
 
 // Between the measured Reynolds numbers the need is interpolated linearly in log Re: at the
