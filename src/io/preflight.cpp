@@ -20,6 +20,7 @@
 #include "coupling/runner.hpp"
 #include "ibm/delta.hpp"
 #include "io/window_advice.hpp"
+#include "lbm/config.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 
@@ -72,6 +73,7 @@ void check_numbers(const coupling::SimulationSetup& s) {
   require_positive(s.end_time_si, "run.end_time");
   require_finite(s.output_interval_si, "run.output_interval");
   require_positive(s.shape->equivalent_diameter(), "particle (its volume-equivalent diameter)");
+  lbm::check_collision_lattice(s.collision, s.lattice);
 }
 
 // ---- 2. units -----------------------------------------------------------------------------
