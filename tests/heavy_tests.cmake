@@ -16,6 +16,7 @@ set_tests_properties(
   PeriodicSphereArray.InteriorMarkersDilutePhi0065At16CellsPerDiameter        # (not measured) / 7
   LbmTaylorGreen.TrtD3Q19EnergyDecayRateWithinOnePercentAt64Cubed             # 79 / 4.3
   LbmTaylorGreen.EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed   # 36 / 2.9
+  LbmTaylorGreen.CumulantDecayRateIsTheSameOnAUniformBackgroundFlow           # (not measured) / 2.4 on a loaded machine (the line above: 11.4 there)
   LbmStability.ShearLayerNearHalfTauBlowsUpBgkAndTrtButNotRecursiveRegularizedOrCumulant  # 31 / 3.3 before the cumulant run; 18.8 with it on a loaded machine
   WallContact.TiltedSpheroidLandsOnItsTipAndComesToRest                       # 62 / 6.6
   WallContact.SphereSettlesOntoTheBottomAndComesToRest                        # 39 / 3.3

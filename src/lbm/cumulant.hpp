@@ -7,12 +7,12 @@
 //  1. density and velocity u = (sum f c + F/2) / rho (G15's half-force shift; Guo's velocity);
 //  2. central moments kappa_abg = sum f (c_x - u_x)^a (c_y - u_y)^b (c_z - u_z)^g, a, b, g in
 //     {0, 1, 2}, by the forward Chimera transform: three passes of a one-dimensional transform
-//     along z, then y, then x (G15, Sec. 3 and Appendix J);
-//  3. cumulants from central moments and their relaxation (G15, Sec. 4): the deviatoric
-//     second-order cumulants C200 - C020, C200 - C002, C110, C101, C011 with omega_1 = 1/tau
-//     (shear viscosity nu = cs^2 (tau - 1/2), as for the other operators), the trace C200 + C020
-//     + C002 with omega_2 = 1 (bulk viscosity 1/9, as the recursive regularised operator's), and
-//     every cumulant of order 3 to 6 with rate 1;
+//     along z, then y, then x (G15, Appendix J);
+//  3. cumulants from central moments and their relaxation: the deviatoric second-order cumulants
+//     C200 - C020, C200 - C002, C110, C101, C011 with omega_1 = 1/tau (shear viscosity
+//     nu = cs^2 (tau - 1/2), as for the other operators), the trace C200 + C020 + C002 with
+//     omega_2 = 1 (bulk viscosity 1/9, as the recursive regularised operator's), and every
+//     cumulant of order 3 to 6 with rate 1;
 //  4. post-collision central moments from the cumulants, first-order ones set to +F/2;
 //  5. backward Chimera transform (x, y, z passes) to populations.
 //
@@ -23,13 +23,12 @@
 // the central moments of f less the raw moments of w (1/3 per squared direction). Every stored
 // and intermediate value is thus a deviation from rest, and nothing of O(1) cancels in float.
 //
-// Relaxation with rate 1 takes a cumulant to its equilibrium value, zero for orders 3 to 6
-// (G15, Sec. 4), whatever its value before: the pre-collision cumulants of those orders are
-// therefore not formed (the post-collision ones are zero), and the forward transform keeps only
-// what orders 0-2 need (the compiler drops the rest). The post-collision central moments are then
+// Relaxation with rate 1 takes a cumulant to its equilibrium value, zero for orders 3 to 6,
+// whatever its value before: the pre-collision cumulants of those orders are therefore not formed
+// (the post-collision ones are zero), and the forward transform keeps only what orders 0-2 need
+// (the compiler drops the rest). The post-collision central moments are then
 // those of the second-order cumulants alone: with k_ab = kappa_ab / rho and zero cumulants above
-// order 2, kappa_3 = kappa_5 = 0 and, by G15's relations between cumulants and central moments
-// (Sec. 3),
+// order 2, kappa_3 = kappa_5 = 0 and, by G15's relations between cumulants and central moments,
 //   kappa_220 = rho (k_xx k_yy + 2 k_xy^2),   kappa_211 = rho (k_xx k_yz + 2 k_xy k_xz),
 //   kappa_222 = rho (k_xx k_yy k_zz + 2 (k_xx k_yz^2 + k_yy k_xz^2 + k_zz k_xy^2) + 8 k_xy k_xz k_yz),
 // and their permutations.
@@ -42,10 +41,12 @@
 //   rho d_x u_x = -omega_1/2 (Dxy + Dxz) + omega_2/2 (drho - T),  with Dxy = C200 - C020,
 //   Dxz = C200 - C002, T = C200 + C020 + C002 (the well-conditioned values),
 //   rho d_y u_y = rho d_x u_x + 3/2 omega_1 Dxy,  rho d_z u_z = rho d_x u_x + 3/2 omega_1 Dxz,
-//   Dxy* = (1 - omega_1) Dxy - 3 (1 - omega_1/2) (u_x^2 rho d_x u_x - u_y^2 rho d_y u_y), Dxz* likewise,
-//   T* = drho + (1 - omega_2) (T - drho) - 3 (1 - omega_2/2) (u_x^2 rho d_x u_x + u_y^2 rho d_y u_y + u_z^2 rho d_z u_z).
+//   Dxy* = (1 - omega_1) Dxy - 3 (1 - omega_1/2) (u_x^2 rho d_x u_x - u_y^2 rho d_y u_y),
+//   Dxz* likewise, and
+//   T* = drho + (1 - omega_2) (T - drho)
+//        - 3 (1 - omega_2/2) (u_x^2 rho d_x u_x + u_y^2 rho d_y u_y + u_z^2 rho d_z u_z).
 //
-// Forcing (G15, Sec. 5; the velocity shift and Eqs. 85-87): with u shifted by F/(2 rho) the
+// Forcing (G15, Eq. 42, the velocity shift, and Eqs. 85-87): with u shifted by F/(2 rho) the
 // pre-collision first-order central moments are -F/2; the collision sets them to +F/2, so a cell
 // gains momentum F per step exactly, and the second-order moments take Guo's forcing term
 // (1 - omega/2)(u F + F u) (collision.hpp) to second order. Approximation (G15's): the
@@ -79,9 +80,10 @@ inline constexpr double kWeight1d[3] = {1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0};
 /// Raw moments of order 0, 1, 2 of the one-dimensional weights: sum w, sum w c, sum w c^2.
 inline constexpr double kRestMoment1d[3] = {1.0, 0.0, 1.0 / 3.0};
 
-/// Forward Chimera step on one line of three values (velocities -1, 0, 1, shifted by their rest
-/// part, whose sum is `rest`): in place, the moments of order 0 (shifted), 1 and 2 (less the rest
-/// part's 1/3 rest) about u. `rest` is a compile-time constant after unrolling, so the test folds.
+/// Forward Chimera step on one line of three values (velocities -1, 0, 1), each shifted by its rest
+/// part; `rest` is the rest parts' sum. In place: the zeroth moment (shifted), and the first and
+/// second moments about u of the unshifted values, the second less the rest parts' own, rest/3.
+/// `rest` is a compile-time constant after unrolling, so the branch on it folds.
 template <class T>
 SETTLE_LBM_INLINE void forward_line(T& lo, T& mid, T& hi, T u, double rest) {
   const T sum = hi + lo, diff = hi - lo;
@@ -236,7 +238,8 @@ struct Cumulant {
     m[at(1, 1, 0)] = p;
     m[at(1, 0, 1)] = q;
     m[at(0, 1, 1)] = s;
-    // Order 4: kappa_211 = rho (k_xx k_yz + 2 k_xy k_xz); kappa_220 - 1/9 = drho/9 + rho ((da + db)/3 + da db) + 2 rho k_xy^2.
+    // Order 4: kappa_211 = rho (k_xx k_yz + 2 k_xy k_xz);
+    // kappa_220 - 1/9 = drho/9 + rho ((da + db)/3 + da db) + 2 rho k_xy^2.
     m[at(2, 1, 1)] = xx * s + T(2.0) * p * Q;
     m[at(1, 2, 1)] = yy * q + T(2.0) * p * S;
     m[at(1, 1, 2)] = zz * p + T(2.0) * q * S;

@@ -178,7 +178,7 @@ class Reference {
     p[1][1][0] = (1.0 - omega) * k[1][1][0];
     p[1][0][1] = (1.0 - omega) * k[1][0][1];
     p[0][1][1] = (1.0 - omega) * k[0][1][1];
-    // Zero-mean cumulant relations (Geier et al. 2015, Sec. 3) with the cumulants set to zero,
+    // Zero-mean cumulant relations (Geier et al. 2015) with the cumulants set to zero,
     // written for the exponents (a, b, c) of one axis order and applied to the three orders.
     const auto second = [&](int x, int y) {  // p of the second moment along axes x, y
       std::array<int, 3> e{};

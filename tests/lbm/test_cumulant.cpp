@@ -81,7 +81,7 @@ TEST(LbmCumulant, OneCollisionConservesMassAndGainsExactlyTheForce) {
 /// The product-form equilibrium of D3Q27, f_eq = rho phi(u_x) phi(u_y) phi(u_z), phi_{-1,0,1}(u) =
 /// ((u^2 - u + 1/3)/2, 2/3 - u^2, (u^2 + u + 1/3)/2): its central moments are rho (1/3)^(number of
 /// squared axes) and zero for odd exponents, the state whose cumulants of orders 3-6 vanish
-/// (Geier et al. 2015, Sec. 4). Shifted by the weights.
+/// (Geier et al. 2015). Shifted by the weights.
 double shifted_product_equilibrium(int i, double rho, const Eigen::Vector3d& u) {
   double value = rho;
   for (int a = 0; a < 3; ++a) {
