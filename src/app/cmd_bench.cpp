@@ -370,7 +370,7 @@ void add_bench_command(CLI::App& app) {
     option->capture_default_str()->excludes(case_option)->excludes(default_case_flag);
   };
   box_only(cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27"));
-  box_only(cmd->add_option("--collision", options->collision, "bgk, trt or recursive_regularized"));
+  box_only(cmd->add_option("--collision", options->collision, "bgk, trt, recursive_regularized or cumulant (D3Q27)"));
   box_only(cmd->add_option("--precision", options->precision, "storage precision: double or float"));
   box_only(cmd->add_option("--size", options->size, "cells per edge N of the periodic box"));
   cmd->add_option("--steps", options->steps, "timed steps per round (rounded up to even)")->capture_default_str();

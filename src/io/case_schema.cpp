@@ -126,7 +126,8 @@ std::vector<KeySpec> declare() {
       real("numerics.cells_per_diameter", Value(16.0), "", closed(4.0, 256.0),
            "grid cells per volume-equivalent diameter"),
       choice("numerics.lattice", "D3Q19", {"D3Q19", "D3Q27"}, "lattice"),
-      choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized"}, "collision model"),
+      choice("numerics.collision", "trt", {"bgk", "trt", "recursive_regularized", "cumulant"},
+             "collision model (docs/lbm.md); cumulant needs numerics.lattice = \"D3Q27\""),
       // Up to 1: the values in use (1/12, 1/6, 3/16, 1/4) lie well inside; larger ones move the
       // walls of a coarse grid and slow the odd moments' relaxation without known use.
       real("numerics.trt_magic", Value(lbm::kWallExactTrtMagic), "", {0.0, 1.0, false, true},

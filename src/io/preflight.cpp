@@ -20,6 +20,7 @@
 #include "coupling/runner.hpp"
 #include "ibm/delta.hpp"
 #include "io/window_advice.hpp"
+#include "lbm/config.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 
@@ -101,6 +102,7 @@ void check_numbers(const coupling::SimulationSetup& s) {
   require_finite(s.output_interval_si, "run.output_interval");
   require_positive(s.shape->equivalent_diameter(), "particle (its volume-equivalent diameter)");
   check_mass_representable(s);
+  lbm::check_collision_lattice(s.collision, s.lattice);
 }
 
 // ---- 2. units -----------------------------------------------------------------------------

@@ -47,7 +47,20 @@ void validate_open_faces(const SolverConfig& config) {
 
 }  // namespace
 
+void check_collision_lattice(CollisionKind collision, LatticeKind lattice) {
+  // Geier et al. 2015's operator relaxes cumulants of orders up to 6, which need every moment
+  // c_x^a c_y^b c_z^g with a, b, g <= 2: D3Q19 lacks eight of them (the corners'), and the
+  // Chimera transform relies on D3Q27's product structure.
+  if (collision == CollisionKind::cumulant && lattice != LatticeKind::D3Q27) {
+    throw InputError(fmt::format(
+        "numerics.lattice must be \"D3Q27\" for numerics.collision = \"cumulant\", got \"{}\" (the cumulant "
+        "operator needs the 27 moments of D3Q27)",
+        to_string(lattice)));
+  }
+}
+
 void validate(const SolverConfig& config) {
+  check_collision_lattice(config.collision, config.lattice);
   const auto check_extent = [](int n, const char* name) {
     if (n < 1) throw InputError(fmt::format("lbm.{}: must be >= 1, got {}", name, n));
   };
@@ -106,6 +119,8 @@ std::string to_string(CollisionKind kind) {
       return "trt";
     case CollisionKind::recursive_regularized:
       return "rr";
+    case CollisionKind::cumulant:
+      return "cumulant";
   }
   return "?";
 }
@@ -141,7 +156,8 @@ CollisionKind parse_collision(const std::string& name, const std::string& what) 
   if (name == "recursive_regularized" || name == "rr" || name == "recursive-regularized") {
     return CollisionKind::recursive_regularized;
   }
-  throw InputError(fmt::format("{}: must be bgk, trt or recursive_regularized (rr), got '{}'", what, name));
+  if (name == "cumulant") return CollisionKind::cumulant;
+  throw InputError(fmt::format("{}: must be bgk, trt, recursive_regularized (rr) or cumulant, got '{}'", what, name));
 }
 
 Precision parse_precision(const std::string& name, const std::string& what) {

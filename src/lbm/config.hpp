@@ -19,7 +19,9 @@ enum class LatticeKind { D3Q19, D3Q27 };
 /// - recursive_regularized: Hermite-regularised BGK with the third-order non-equilibrium
 ///   moments rebuilt recursively (Malaspinas 2015; Coreixas et al. 2017): stable close to
 ///   tau = 1/2.
-enum class CollisionKind { bgk, trt, recursive_regularized };
+/// - cumulant: the cumulant operator of Geier, Schoenherr, Pasquali & Krafczyk 2015 (lbm/cumulant.hpp);
+///   D3Q27 only.
+enum class CollisionKind { bgk, trt, recursive_regularized, cumulant };
 
 /// Storage type of the populations and of the per-cell force (arithmetic is double).
 enum class Precision { float32, float64 };
@@ -91,6 +93,10 @@ double tau_from_viscosity(double nu);
 
 /// Throws settle::InputError naming the offending field when the configuration is unusable.
 void validate(const SolverConfig& config);
+/// Throws settle::InputError, naming the case keys, when the collision operator needs a lattice
+/// other than `lattice` (the cumulant operator needs D3Q27's 27 moments). Part of validate; the
+/// preflight calls it too, before anything is planned.
+void check_collision_lattice(CollisionKind collision, LatticeKind lattice);
 
 std::string to_string(LatticeKind kind);
 std::string to_string(CollisionKind kind);

@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "common/error.hpp"
 #include "lbm/aa_solver.hpp"
+#include "lbm/cumulant.hpp"
 
 namespace settle::lbm {
 
@@ -26,6 +29,10 @@ std::unique_ptr<Solver> make_with_collision(const SolverConfig& config) {
       return make_with_precision<L, Trt>(config);
     case CollisionKind::recursive_regularized:
       return make_with_precision<L, RecursiveRegularized>(config);
+    case CollisionKind::cumulant:
+      // validate (check_collision_lattice) has refused any other lattice.
+      if constexpr (L::Q == 27) return make_with_precision<L, Cumulant>(config);
+      throw std::logic_error("make_solver: the cumulant operator needs D3Q27");
   }
   return nullptr;
 }

@@ -357,6 +357,16 @@ TEST(Preflight, NonFiniteNumbersInACodeBuiltSetupAreNamed) {
   EXPECT_TRUE(contains(error_of([&] { preflight(s); }), "particle.velocity"));
 }
 
+TEST(Preflight, TheCumulantOperatorOnD3Q19IsRefusedNamingBothKeys) {
+  coupling::SimulationSetup s = small_setup();
+  s.collision = lbm::CollisionKind::cumulant;
+  s.lattice = lbm::LatticeKind::D3Q19;
+  const std::string e = error_of([&] { preflight(s); });
+  EXPECT_TRUE(contains(e, "numerics.lattice") && contains(e, "numerics.collision")) << e;
+  s.lattice = lbm::LatticeKind::D3Q27;
+  EXPECT_NO_THROW(preflight(s));
+}
+
 TEST(Preflight, AnExplicitBudgetReplacesMemAvailable) {
   const coupling::SimulationSetup s = small_setup();
   PreflightOptions options;

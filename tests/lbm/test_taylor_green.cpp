@@ -7,6 +7,7 @@
 // mode, summed).
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -18,12 +19,21 @@ namespace test_taylor_green {
 
 using namespace settle::lbm;
 
+/// Kinetic energy in the frame moving with the mean velocity (total momentum / total mass,
+/// both conserved in a periodic box), i.e. the vortex's energy on a uniform background.
 double kinetic_energy(const Solver& solver) {
   const auto rho = solver.density_field();
   const auto u = solver.velocity_field();
+  double mass = 0.0;
+  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
+  for (std::size_t n = 0; n < rho.size(); ++n) {
+    mass += rho[n];
+    momentum += rho[n] * Eigen::Vector3d(u.x[n], u.y[n], u.z[n]);
+  }
+  const Eigen::Vector3d mean = momentum / mass;
   double energy = 0.0;
   for (std::size_t n = 0; n < rho.size(); ++n) {
-    energy += 0.5 * rho[n] * (u.x[n] * u.x[n] + u.y[n] * u.y[n] + u.z[n] * u.z[n]);
+    energy += 0.5 * rho[n] * (Eigen::Vector3d(u.x[n], u.y[n], u.z[n]) - mean).squaredNorm();
   }
   return energy;
 }
@@ -35,9 +45,11 @@ struct DecayResult {
 };
 
 /// Energy decay rate of the vortex in the plane (axis_a, axis_b) of an N^3 box, fitted
-/// between step t0 (after the initial equilibrium-start transient) and t1.
+/// between step t0 (after the initial equilibrium-start transient) and t1, carried by a uniform
+/// `background` velocity.
 DecayResult taylor_green(int n, LatticeKind lattice, CollisionKind collision, Precision precision, double tau,
-                         int axis_a, int axis_b, int t0, int t1, double u0 = 0.02) {
+                         int axis_a, int axis_b, int t0, int t1, double u0 = 0.02,
+                         const Eigen::Vector3d& background = Eigen::Vector3d::Zero()) {
   SolverConfig cfg;
   cfg.lattice = lattice;
   cfg.collision = collision;
@@ -50,8 +62,9 @@ DecayResult taylor_green(int n, LatticeKind lattice, CollisionKind collision, Pr
     const double pos[3] = {x + 0.5, y + 0.5, z + 0.5};
     const double xa = k * pos[axis_a], xb = k * pos[axis_b];
     CellState state;
-    state.velocity[axis_a] = u0 * std::sin(xa) * std::cos(xb);
-    state.velocity[axis_b] = -u0 * std::cos(xa) * std::sin(xb);
+    state.velocity = background;
+    state.velocity[axis_a] += u0 * std::sin(xa) * std::cos(xb);
+    state.velocity[axis_b] -= u0 * std::cos(xa) * std::sin(xb);
     const double pressure = 0.25 * u0 * u0 * (std::cos(2 * xa) + std::cos(2 * xb));
     state.density = 1.0 + pressure / cs2;
     return state;
@@ -92,6 +105,8 @@ TEST(LbmTaylorGreen, EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed)
       {LatticeKind::D3Q27, CollisionKind::bgk, Precision::float32, 1, 2},
       {LatticeKind::D3Q27, CollisionKind::recursive_regularized, Precision::float32, 2, 0},
       {LatticeKind::D3Q19, CollisionKind::trt, Precision::float32, 0, 1},
+      {LatticeKind::D3Q27, CollisionKind::cumulant, Precision::float64, 0, 1},
+      {LatticeKind::D3Q27, CollisionKind::cumulant, Precision::float32, 1, 2},
   };
   for (const auto& v : variants) {
     const auto r = taylor_green(32, v.lattice, v.collision, v.precision, 0.65, v.axis_a, v.axis_b, 20, 170);
@@ -104,6 +119,22 @@ TEST(LbmTaylorGreen, EveryLatticeCollisionAndPlaneDecaysAtTheRightRateAt32Cubed)
     EXPECT_LT(r.relative_error(), 0.02) << to_string(v.lattice) << " " << to_string(v.collision) << " "
                                         << to_string(v.precision);
   }
+}
+
+TEST(LbmTaylorGreen, CumulantDecayRateIsTheSameOnAUniformBackgroundFlow) {
+  // The vortex of the test above carried through the box by a uniform velocity: a Galilean
+  // invariant viscosity decays it at the same rate. D3Q27's third moments cannot carry the
+  // Maxwellian's rho u_a^3, which adds 3 nu rho u_a^2 d_a u_a to the normal stresses; the cumulant
+  // operator removes it (Geier et al. 2015, Appendix H).
+  const auto r = taylor_green(32, LatticeKind::D3Q27, CollisionKind::cumulant, Precision::float64, 0.65, 0, 1, 20, 170,
+                              0.02, Eigen::Vector3d(0.1, 0.06, 0.0));
+  std::printf("TGV 32^3 D3Q27 cumulant on the background (0.1, 0.06, 0): rate %.6e, exact %.6e, error %.3e\n",
+              r.measured_rate, r.exact_rate, r.relative_error());
+  // 0.5 %, within the 2 % of the test above: at rest the error is 3.8e-4 (dispersion at 32 cells
+  // per wavelength), and on this background the uncorrected defect costs 2-3 %: measured 3.1e-2
+  // for the operator without its correction, 2.2e-2 for TRT and 3.1e-2 for the recursive
+  // regularised operator on the same flow (docs/lbm.md, Tests).
+  EXPECT_LT(r.relative_error(), 0.005);
 }
 
 }  // namespace test_taylor_green

@@ -283,6 +283,20 @@ TEST(LbmConfig, RejectsUnusableValuesWithTheKeyInTheMessage) {
   cfg.ny = 0;
   EXPECT_THROW(make_solver(cfg), settle::InputError);
   EXPECT_THROW(parse_collision("mrt", "--collision"), settle::InputError);
+  EXPECT_EQ(parse_collision("cumulant", "--collision"), CollisionKind::cumulant);
+  // The cumulant operator needs D3Q27: refused on D3Q19, naming both case keys.
+  cfg = SolverConfig{};
+  cfg.collision = CollisionKind::cumulant;
+  cfg.lattice = LatticeKind::D3Q19;
+  try {
+    make_solver(cfg);
+    FAIL() << "cumulant on D3Q19 accepted";
+  } catch (const settle::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("numerics.lattice"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("numerics.collision"), std::string::npos) << e.what();
+  }
+  cfg.lattice = LatticeKind::D3Q27;
+  EXPECT_NO_THROW(make_solver(cfg));
   EXPECT_EQ(parse_boundary("free-slip", "walls.x"), Boundary::free_slip);
 }
 
