@@ -60,6 +60,10 @@ void validate(const SolverConfig& config) {
   if (config.collision == CollisionKind::trt && !(config.magic > 0.0 && std::isfinite(config.magic))) {
     throw InputError(fmt::format("lbm.magic: must be > 0, got {}", config.magic));
   }
+  if (config.subgrid == SubgridModel::smagorinsky &&
+      !(config.smagorinsky_constant >= 0.0 && std::isfinite(config.smagorinsky_constant))) {
+    throw InputError(fmt::format("lbm.smagorinsky_constant: must be >= 0, got {}", config.smagorinsky_constant));
+  }
   if (!config.body_force.allFinite()) {
     throw InputError("lbm.body_force: must be finite");
   }
@@ -110,6 +114,8 @@ std::string to_string(CollisionKind kind) {
   return "?";
 }
 
+std::string to_string(SubgridModel kind) { return kind == SubgridModel::smagorinsky ? "smagorinsky" : "none"; }
+
 std::string to_string(Precision kind) { return kind == Precision::float32 ? "float" : "double"; }
 
 std::string to_string(Boundary kind) {
@@ -155,6 +161,12 @@ Boundary parse_boundary(const std::string& name, const std::string& what) {
   if (name == "no-slip") return Boundary::no_slip;
   if (name == "free-slip") return Boundary::free_slip;
   throw InputError(fmt::format("{}: must be periodic, no-slip or free-slip, got '{}'", what, name));
+}
+
+SubgridModel parse_subgrid_model(const std::string& name, const std::string& what) {
+  if (name == "none") return SubgridModel::none;
+  if (name == "smagorinsky") return SubgridModel::smagorinsky;
+  throw InputError(fmt::format("{}: must be none or smagorinsky, got '{}'", what, name));
 }
 
 }  // namespace settle::lbm
