@@ -22,6 +22,7 @@ double measured_kernel_updates_per_second(const coupling::SimulationSetup& s, do
   lbm::SolverConfig config;
   config.lattice = s.lattice;
   config.collision = s.collision;
+  config.subgrid = s.subgrid_model;
   config.precision = s.precision;
   config.nx = config.ny = config.nz = kSide;
   config.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic};
