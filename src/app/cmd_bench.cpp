@@ -34,6 +34,8 @@ namespace fs = std::filesystem;
 struct BenchOptions {
   std::string lattice = "D3Q19";
   std::string collision = "trt";
+  std::string subgrid = "none";
+  double smagorinsky_constant = lbm::kDefaultSmagorinskyConstant;
   std::string precision = lbm::to_string(lbm::kDefaultPrecision);
   int size = 256;
   std::string case_file;               ///< --case: time this case's coupled step instead
@@ -64,6 +66,8 @@ lbm::SolverConfig kernel_config(const BenchOptions& o, parallel::Communicator& w
   lbm::SolverConfig c;
   c.lattice = lbm::parse_lattice(o.lattice, "--lattice");
   c.collision = lbm::parse_collision(o.collision, "--collision");
+  c.subgrid = lbm::parse_subgrid_model(o.subgrid, "--subgrid");
+  c.smagorinsky_constant = o.smagorinsky_constant;
   c.precision = lbm::parse_precision(o.precision, "--precision");
   c.nx = c.ny = c.nz = o.size;
   if (world.size() > 1) {
@@ -169,8 +173,9 @@ nlohmann::json run_kernel_bench(const BenchOptions& o) {
   const bool lead = world.rank() == 0;
   const lbm::SolverConfig config = kernel_config(o, world);
   if (lead)
-    fmt::print(stderr, "settle bench: {} {} {} on {}^3, {} rounds of {} steps and a bandwidth probe, {} threads{}\n",
-               o.lattice, o.collision, o.precision, o.size, o.rounds, o.steps, omp_get_max_threads(),
+    fmt::print(stderr, "settle bench: {} {}{} {} on {}^3, {} rounds of {} steps and a bandwidth probe, {} threads{}\n",
+               o.lattice, o.collision, o.subgrid == "none" ? "" : " + " + o.subgrid, o.precision, o.size, o.rounds,
+               o.steps, omp_get_max_threads(),
                world.size() > 1 ? fmt::format(" on each of {} processes", world.size()) : "");
   auto solver = lbm::make_solver(config);
   prepare(*solver);
@@ -214,6 +219,7 @@ nlohmann::json run_kernel_bench(const BenchOptions& o) {
   nlohmann::json j;
   j["lattice"] = lbm::to_string(config.lattice);
   j["collision"] = lbm::to_string(config.collision);
+  j["subgrid_model"] = lbm::to_string(config.subgrid);
   j["precision"] = o.precision;
   j["size"] = o.size;
   j["cells"] = whole_cells;
@@ -325,6 +331,7 @@ nlohmann::json run_case_bench(const BenchOptions& o) {
   j["coupling"] = coupling::to_string(sim.setup().coupling);
   j["lattice"] = lbm::to_string(sim.setup().lattice);
   j["collision"] = lbm::to_string(sim.setup().collision);
+  j["subgrid_model"] = lbm::to_string(sim.setup().subgrid_model);
   j["precision"] = lbm::to_string(sim.setup().precision);
   j["threads"] = omp_get_max_threads();
   j["steps"] = steps;
@@ -371,6 +378,9 @@ void add_bench_command(CLI::App& app) {
   };
   box_only(cmd->add_option("--lattice", options->lattice, "D3Q19 or D3Q27"));
   box_only(cmd->add_option("--collision", options->collision, "bgk, trt, recursive_regularized or cumulant (D3Q27)"));
+  box_only(cmd->add_option("--subgrid", options->subgrid, "subgrid model: none or smagorinsky"));
+  box_only(cmd->add_option("--smagorinsky-constant", options->smagorinsky_constant,
+                           "C_S of --subgrid smagorinsky (the per-cell work does not depend on it)"));
   box_only(cmd->add_option("--precision", options->precision, "storage precision: double or float"));
   box_only(cmd->add_option("--size", options->size, "cells per edge N of the periodic box"));
   cmd->add_option("--steps", options->steps, "timed steps per round (rounded up to even)")->capture_default_str();

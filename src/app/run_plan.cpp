@@ -22,6 +22,7 @@ double measured_kernel_updates_per_second(const coupling::SimulationSetup& s, do
   lbm::SolverConfig config;
   config.lattice = s.lattice;
   config.collision = s.collision;
+  config.subgrid = s.subgrid_model;
   config.precision = s.precision;
   config.nx = config.ny = config.nz = kSide;
   config.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic};
@@ -52,9 +53,13 @@ std::string run_plan_text(const coupling::SimulationSetup& s, const io::Prefligh
                       p.units.dx_si(), s.cells_per_diameter, p.equivalent_diameter_si, p.units.dt_si(), p.units.tau());
   text += fmt::format("  flow      expected speed {:.4g} m/s: Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}\n",
                       p.expected_speed_si, p.mach, p.reynolds, p.galileo);
-  text +=
-      fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}, {}\n", r.cells[0], r.cells[1], r.cells[2], r.cell_count,
-                  lbm::to_string(s.lattice), lbm::to_string(s.collision), lbm::to_string(s.precision));
+  const std::string subgrid =
+      s.subgrid_model == lbm::SubgridModel::none
+          ? ""
+          : fmt::format(" + {} (C_S {:g})", lbm::to_string(s.subgrid_model), s.smagorinsky_constant);
+  text += fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}{}, {}\n", r.cells[0], r.cells[1], r.cells[2],
+                      r.cell_count, lbm::to_string(s.lattice), lbm::to_string(s.collision), subgrid,
+                      lbm::to_string(s.precision));
   text += fmt::format("  run       end time {:.4g} s = {:.0f} steps\n", s.end_time_si, r.steps);
   text += fmt::format("  body      {}, about {:.3g} surface cells (area / dx^2)\n", coupling::to_string(s.coupling),
                       s.shape->surface_area() / (p.units.dx_si() * p.units.dx_si()));

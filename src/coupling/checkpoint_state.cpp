@@ -75,6 +75,8 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       choice("boundary along z", c.boundaries[2]),
       number("relaxation time tau", c.tau),
       number("TRT magic parameter", c.magic),
+      choice("subgrid model", c.subgrid),
+      number("Smagorinsky constant", c.smagorinsky_constant),
       number("fluid body force x (lattice units)", c.body_force.x()),
       number("fluid body force y (lattice units)", c.body_force.y()),
       number("fluid body force z (lattice units)", c.body_force.z()),

@@ -84,13 +84,21 @@ std::vector<std::string> coupling_key_warnings(const CaseValues& v) {
   return warnings;
 }
 
-// numerics.trt_magic set away from its default with another collision operator changes nothing.
+// numerics.trt_magic set away from its default with another collision operator changes nothing, nor
+// numerics.smagorinsky_constant without the Smagorinsky model.
 std::vector<std::string> collision_key_warnings(const CaseValues& v) {
-  if (!set_away_from_default(v, "numerics.trt_magic") || v.string("numerics.collision") == "trt") return {};
-  return {
-      fmt::format("numerics.trt_magic: read only with numerics.collision = \"trt\"; this case uses \"{}\", "
-                  "so it has no effect",
-                  v.string("numerics.collision"))};
+  std::vector<std::string> warnings;
+  if (set_away_from_default(v, "numerics.trt_magic") && v.string("numerics.collision") != "trt")
+    warnings.push_back(
+        fmt::format("numerics.trt_magic: read only with numerics.collision = \"trt\"; this case uses \"{}\", "
+                    "so it has no effect",
+                    v.string("numerics.collision")));
+  if (set_away_from_default(v, "numerics.smagorinsky_constant") && v.string("numerics.subgrid_model") != "smagorinsky")
+    warnings.push_back(
+        fmt::format("numerics.smagorinsky_constant: read only with numerics.subgrid_model = \"smagorinsky\"; this "
+                    "case uses \"{}\", so it has no effect",
+                    v.string("numerics.subgrid_model")));
+  return warnings;
 }
 
 // Cases are kilobytes; 10 MB of comments were read in 0.25 s (27 MB of memory), and the bound
@@ -302,6 +310,8 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.lattice = lbm::parse_lattice(v.string("numerics.lattice"), "numerics.lattice");
   s.collision = lbm::parse_collision(v.string("numerics.collision"), "numerics.collision");
   s.trt_magic = v.real("numerics.trt_magic");
+  s.subgrid_model = lbm::parse_subgrid_model(v.string("numerics.subgrid_model"), "numerics.subgrid_model");
+  s.smagorinsky_constant = v.real("numerics.smagorinsky_constant");
   s.precision = lbm::parse_precision(v.string("numerics.precision"), "numerics.precision");
   s.coupling = coupling::parse_coupling(v.string("numerics.coupling"), "numerics.coupling");
   s.wall_rule = lbm::parse_wall_rule(v.string("numerics.wall_rule"), "numerics.wall_rule");

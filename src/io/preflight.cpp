@@ -103,6 +103,7 @@ void check_numbers(const coupling::SimulationSetup& s) {
   require_positive(s.shape->equivalent_diameter(), "particle (its volume-equivalent diameter)");
   check_mass_representable(s);
   lbm::check_collision_lattice(s.collision, s.lattice);
+  lbm::check_collision_subgrid(s.collision, s.subgrid_model);
 }
 
 // ---- 2. units -----------------------------------------------------------------------------

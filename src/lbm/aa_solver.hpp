@@ -79,6 +79,8 @@ class AaSolver final : public Solver {
     for (auto& component : force_) component = AlignedArray<Real>(cell_count());
     rates_ = config.collision == CollisionKind::trt ? trt_rates(config.tau, config.magic)
                                                     : RelaxationRates{1.0 / config.tau, 1.0 / config.tau};
+    // Read only by the Smagorinsky variants (the factory chooses Collision = Smagorinsky<...>).
+    rates_.smagorinsky = smagorinsky_constants(config.tau, config.smagorinsky_constant, config.magic);
     zero_fill();
   }
 

@@ -29,12 +29,21 @@
 
 namespace settle::lbm {
 
+/// What the operators' Smagorinsky variants (`Smagorinsky<Operator>`) read besides the rates, the
+/// same for every cell; the plain operators ignore it.
+struct SmagorinskyConstants {
+  double tau0 = 1.0;       ///< relaxation time of the molecular viscosity, nu0 = cs^2 (tau0 - 1/2)
+  double factor = 0.0;     ///< 18 sqrt(2) C_S^2 (smagorinsky_tau)
+  double trt_magic = 0.0;  ///< TRT: Lambda, held per cell while omega_plus follows tau_eff
+};
+
 /// Relaxation rates. omega_plus = 1/tau relaxes the symmetric (even) moments and sets the
 /// shear viscosity nu = cs^2 (1/omega_plus - 1/2); omega_minus relaxes the antisymmetric
 /// (odd) moments (TRT only).
 struct RelaxationRates {
   double omega_plus = 1.0;
   double omega_minus = 1.0;
+  SmagorinskyConstants smagorinsky{};
 };
 
 /// TRT rates of relaxation time tau and magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2)
@@ -42,6 +51,62 @@ struct RelaxationRates {
 inline RelaxationRates trt_rates(double tau, double magic) {
   const double tau_minus = magic / (tau - 0.5) + 0.5;
   return {1.0 / tau, 1.0 / tau_minus};
+}
+
+/// The constants of the Smagorinsky model for molecular relaxation time tau0, constant C_S (filter
+/// width Delta = dx) and, for TRT, magic parameter Lambda.
+inline SmagorinskyConstants smagorinsky_constants(double tau0, double constant, double magic) {
+  return {tau0, 18.0 * std::sqrt(2.0) * constant * constant, magic};
+}
+
+/// Smagorinsky subgrid model in the lattice Boltzmann form of Hou, Sterling, Chen and Doolen
+/// (1996, "A lattice Boltzmann subgrid model for high Reynolds number flows", Fields Inst.
+/// Commun. 6, 151-166): the relaxation time of the shear moments, per cell, that adds the eddy
+/// viscosity nu_t = (C_S Delta)^2 |S|, |S| = sqrt(2 S:S) (Smagorinsky 1963, Mon. Weather Rev. 91,
+/// 99-164), Delta = dx = 1.
+///
+/// Derivation. The Chapman-Enskog expansion gives the non-equilibrium momentum flux (with
+/// Guo's correction, RecursiveRegularized's a2) as Pi_neq = -2 rho cs^2 tau S at the relaxation
+/// time tau the cell actually uses, so |S| = |Pi_neq| / (sqrt(2) rho cs^2 tau), |Pi_neq| =
+/// sqrt(Pi_ab Pi_ab). With cs^2 (tau - tau0) = nu_t = C_S^2 |S| at tau = tau_eff:
+///   tau_eff^2 - tau0 tau_eff - C_S^2 |Pi_neq| / (sqrt(2) rho cs^4) = 0,
+///   tau_eff = (tau0 + sqrt(tau0^2 + 18 sqrt(2) C_S^2 |Pi_neq| / rho)) / 2
+/// (the positive root; 4 / (sqrt(2) cs^4) = 18 sqrt(2)). Explicit: no iteration, no neighbour.
+/// Approximations: S is the whole strain rate, its trace div(u) included (O(Ma^2) here), as in
+/// Hou et al. (under RecursiveRegularized, whose trace relaxes at rate 1, that part of a2 is
+/// -2 rho cs^2 div(u) instead); the eddy viscosity acts everywhere, next to walls too (no van
+/// Driest damping); Delta is the lattice spacing whatever the flow's scales.
+template <class T>
+SETTLE_LBM_INLINE T smagorinsky_tau(const SmagorinskyConstants& k, T pi_neq_squared, T rho) {
+  const T tau0 = T(k.tau0);
+  return T(0.5) * (tau0 + std::sqrt(tau0 * tau0 + T(k.factor) * std::sqrt(pi_neq_squared) / rho));
+}
+
+/// Pi_ab Pi_ab of a symmetric tensor given by its six components.
+template <class T>
+SETTLE_LBM_INLINE T symmetric_squared_norm(T xx, T yy, T zz, T xy, T xz, T yz) {
+  return xx * xx + yy * yy + zz * zz + T(2.0) * (xy * xy + xz * xz + yz * yz);
+}
+
+/// Pi_neq:Pi_neq of the Guo-corrected non-equilibrium momentum flux a2 = Pi - Pi_eq + (u F + F u)/2
+/// (RecursiveRegularized's a2), from the second moments pi = {xx, yy, zz, xy, xz, yz} of the shifted
+/// populations, for which Pi_eq = cs^2 drho I + rho u u.
+template <class T>
+SETTLE_LBM_INLINE T guo_non_equilibrium_flux_squared(const T (&pi)[6], T drho, T rho, T ux, T uy, T uz, const T* F) {
+  const T iso = T(cs2) * drho;
+  return symmetric_squared_norm(pi[0] - iso - rho * ux * ux + ux * F[0], pi[1] - iso - rho * uy * uy + uy * F[1],
+                                pi[2] - iso - rho * uz * uz + uz * F[2],
+                                pi[3] - rho * ux * uy + T(0.5) * (ux * F[1] + uy * F[0]),
+                                pi[4] - rho * ux * uz + T(0.5) * (ux * F[2] + uz * F[0]),
+                                pi[5] - rho * uy * uz + T(0.5) * (uy * F[2] + uz * F[1]));
+}
+
+/// TRT's odd rate for a shear rate 1/tau at fixed Lambda: 1 / (Lambda / (tau - 1/2) + 1/2), with one
+/// division.
+template <class T>
+SETTLE_LBM_INLINE T trt_omega_minus(T tau, T magic) {
+  const T excess = tau - T(0.5);
+  return excess / (magic + T(0.5) * excess);
 }
 
 /// Density deviation, velocity (Guo's half-force correction included) of one cell.
@@ -115,10 +180,21 @@ SETTLE_LBM_INLINE void accumulate(T& acc, bool& started, int c, T value) {
 ///   g*_i + g*_o = 2 [w A + c.u (w B c.u + 9 w (1 - omega+/2) c.F) + (1 - omega+)/2 s],
 ///   g*_i - g*_o = 2 [w D c.u + 3 w (1 - omega-/2) c.F + (1 - omega-)/2 d],
 ///   A = omega+ (drho - 3/2 rho u.u) - 3 (1 - omega+/2) u.F,  B = 9/2 omega+ rho,  D = 3 omega- rho.
+///
+/// With kSmagorinsky the rates are set per cell: omega+ = 1 / tau_eff (smagorinsky_tau) from the
+/// second moments of the pair sums, and omega- from tau_eff at the fixed magic parameter Lambda
+/// (r.smagorinsky.trt_magic), so that Lambda, and with it the place of half-way bounce-back walls
+/// (Ginzburg et al. 2008), stays what the case chose while the viscosity varies.
 struct Trt {
   static constexpr const char* name = "trt";
-  template <Lattice L, class T>
+  template <Lattice L, class T, bool kSmagorinsky = false>
   static SETTLE_LBM_INLINE void collide(T* g, const T* F, const RelaxationRates& r) {
+    relax<L, T, kSmagorinsky, false>(g, F, r);
+  }
+
+  /// The relaxation; kEqualRates: omega- = omega+ (BGK).
+  template <Lattice L, class T, bool kSmagorinsky, bool kEqualRates>
+  static SETTLE_LBM_INLINE void relax(T* g, const T* F, const RelaxationRates& r) {
     constexpr int P = (L::Q - 1) / 2;
     T s[P], d[P];
     T jx = T(0.0), jy = T(0.0), jz = T(0.0);
@@ -127,6 +203,9 @@ struct Trt {
     // reassociate floating-point sums itself), which lets more cells overlap in flight.
     T partial[3] = {g[0], T(0.0), T(0.0)};
     bool partial_started[3] = {true, false, false};
+    // Second moments sum c_a c_b g (Smagorinsky only): the pair sums carry them, c_a c_b being even.
+    T pi[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
+    bool pi_started[6] = {false, false, false, false, false, false};
 #pragma GCC unroll 16
     for (int p = 0; p < P; ++p) {
       const int i = 2 * p + 1, o = 2 * p + 2;
@@ -137,6 +216,14 @@ struct Trt {
       accumulate(jx, started[0], c[0], d[p]);
       accumulate(jy, started[1], c[1], d[p]);
       accumulate(jz, started[2], c[2], d[p]);
+      if constexpr (kSmagorinsky) {
+        accumulate(pi[0], pi_started[0], c[0] * c[0], s[p]);
+        accumulate(pi[1], pi_started[1], c[1] * c[1], s[p]);
+        accumulate(pi[2], pi_started[2], c[2] * c[2], s[p]);
+        accumulate(pi[3], pi_started[3], c[0] * c[1], s[p]);
+        accumulate(pi[4], pi_started[4], c[0] * c[2], s[p]);
+        accumulate(pi[5], pi_started[5], c[1] * c[2], s[p]);
+      }
     }
     const T drho = partial[0] + (partial[1] + partial[2]);
     const T rho = T(1.0) + drho;
@@ -144,7 +231,12 @@ struct Trt {
     const T ux = (jx + T(0.5) * F[0]) * inv_rho;
     const T uy = (jy + T(0.5) * F[1]) * inv_rho;
     const T uz = (jz + T(0.5) * F[2]) * inv_rho;
-    const T wp = T(r.omega_plus), wm = T(r.omega_minus);
+    T wp = T(r.omega_plus), wm = kEqualRates ? T(r.omega_plus) : T(r.omega_minus);
+    if constexpr (kSmagorinsky) {
+      const T tau = smagorinsky_tau(r.smagorinsky, guo_non_equilibrium_flux_squared(pi, drho, rho, ux, uy, uz, F), rho);
+      wp = T(1.0) / tau;
+      wm = kEqualRates ? wp : trt_omega_minus(tau, T(r.smagorinsky.trt_magic));
+    }
     const T sp = T(1.0) - T(0.5) * wp, sm = T(1.0) - T(0.5) * wm;
     const T usq = ux * ux + uy * uy + uz * uz;
     const T uF = ux * F[0] + uy * F[1] + uz * F[2];
@@ -173,12 +265,13 @@ struct Trt {
 
 /// Single relaxation time (Bhatnagar, Gross & Krook 1954; Qian, d'Humieres & Lallemand 1992)
 /// with Guo forcing: g*_i = g_i + omega (geq_i - g_i) + (1 - omega/2) S_i. This is exactly TRT
-/// with omega- = omega+, so it shares TRT's pair-wise code (the factory passes equal rates).
+/// with omega- = omega+, so it shares TRT's pair-wise code (with kSmagorinsky both rates follow
+/// tau_eff).
 struct Bgk {
   static constexpr const char* name = "bgk";
-  template <Lattice L, class T>
+  template <Lattice L, class T, bool kSmagorinsky = false>
   static SETTLE_LBM_INLINE void collide(T* g, const T* F, const RelaxationRates& r) {
-    Trt::collide<L, T>(g, F, RelaxationRates{r.omega_plus, r.omega_plus});
+    Trt::relax<L, T, kSmagorinsky, true>(g, F, r);
   }
 };
 
@@ -217,7 +310,7 @@ struct RecursiveRegularized {
     return sum > 0.0 ? 1.0 / sum : 0.0;
   }
 
-  template <Lattice L, class T>
+  template <Lattice L, class T, bool kSmagorinsky = false>
   static SETTLE_LBM_INLINE void collide(T* g, const T* F, const RelaxationRates& r) {
     constexpr T k_plus = T(inverse_norm<L>(0));
     constexpr T k_minus = T(inverse_norm<L>(1));
@@ -247,7 +340,11 @@ struct RecursiveRegularized {
     // Post-collision Hermite coefficients: equilibrium plus (1 - omega) times the
     // non-equilibrium, at second order (A) and third order (B, recursive non-equilibrium
     // plus the equilibrium's rho u u u, both projected on what the lattice carries).
-    const T omega = T(r.omega_plus);
+    // With kSmagorinsky the shear part and the recursive third order relax at 1 / tau_eff of this
+    // cell (smagorinsky_tau, from the full a2); the bulk part keeps its rate 1.
+    T omega = T(r.omega_plus);
+    if constexpr (kSmagorinsky)
+      omega = T(1.0) / smagorinsky_tau(r.smagorinsky, symmetric_squared_norm(axx, ayy, azz, axy, axz, ayz), m.rho);
     const T keep = T(1.0) - omega;
     // The trace (bulk) part of a2 is not kept: its relaxation rate is 1 instead of omega
     // (bulk viscosity cs^2/3 = 1/9 instead of 2 nu / 3; Dellar 2001, "Bulk and shear viscosities
@@ -289,6 +386,19 @@ struct RecursiveRegularized {
       const T source = w * (T(3.0) * (cF - uF) + T(9.0) * cu * cF);
       g[i] = w * (m.drho + T(3.0) * m.rho * cu + second + third) + T(0.5) * source;
     }
+  }
+};
+
+/// An operator with the Smagorinsky subgrid model (smagorinsky_tau): its shear relaxation time is
+/// set per cell from the cell's own non-equilibrium momentum flux. A distinct type, so that the
+/// plain operator's kernel is compiled without any of it (the choice is made once, in the
+/// solver's factory).
+template <class Operator>
+struct Smagorinsky {
+  static constexpr const char* name = Operator::name;
+  template <Lattice L, class T>
+  static SETTLE_LBM_INLINE void collide(T* g, const T* F, const RelaxationRates& r) {
+    Operator::template collide<L, T, true>(g, F, r);
   }
 };
 

@@ -59,8 +59,18 @@ void check_collision_lattice(CollisionKind collision, LatticeKind lattice) {
   }
 }
 
+void check_collision_subgrid(CollisionKind collision, SubgridModel subgrid) {
+  if (collision == CollisionKind::cumulant && subgrid != SubgridModel::none) {
+    throw InputError(fmt::format(
+        "numerics.subgrid_model = \"{}\" does not act on numerics.collision = \"cumulant\" (the model is built into "
+        "\"bgk\", \"trt\" and \"recursive_regularized\"); choose one of those or numerics.subgrid_model = \"none\"",
+        to_string(subgrid)));
+  }
+}
+
 void validate(const SolverConfig& config) {
   check_collision_lattice(config.collision, config.lattice);
+  check_collision_subgrid(config.collision, config.subgrid);
   const auto check_extent = [](int n, const char* name) {
     if (n < 1) throw InputError(fmt::format("lbm.{}: must be >= 1, got {}", name, n));
   };
@@ -72,6 +82,10 @@ void validate(const SolverConfig& config) {
   }
   if (config.collision == CollisionKind::trt && !(config.magic > 0.0 && std::isfinite(config.magic))) {
     throw InputError(fmt::format("lbm.magic: must be > 0, got {}", config.magic));
+  }
+  if (config.subgrid == SubgridModel::smagorinsky &&
+      !(config.smagorinsky_constant >= 0.0 && std::isfinite(config.smagorinsky_constant))) {
+    throw InputError(fmt::format("lbm.smagorinsky_constant: must be >= 0, got {}", config.smagorinsky_constant));
   }
   if (!config.body_force.allFinite()) {
     throw InputError("lbm.body_force: must be finite");
@@ -125,6 +139,8 @@ std::string to_string(CollisionKind kind) {
   return "?";
 }
 
+std::string to_string(SubgridModel kind) { return kind == SubgridModel::smagorinsky ? "smagorinsky" : "none"; }
+
 std::string to_string(Precision kind) { return kind == Precision::float32 ? "float" : "double"; }
 
 std::string to_string(Boundary kind) {
@@ -171,6 +187,12 @@ Boundary parse_boundary(const std::string& name, const std::string& what) {
   if (name == "no-slip") return Boundary::no_slip;
   if (name == "free-slip") return Boundary::free_slip;
   throw InputError(fmt::format("{}: must be periodic, no-slip or free-slip, got '{}'", what, name));
+}
+
+SubgridModel parse_subgrid_model(const std::string& name, const std::string& what) {
+  if (name == "none") return SubgridModel::none;
+  if (name == "smagorinsky") return SubgridModel::smagorinsky;
+  throw InputError(fmt::format("{}: must be none or smagorinsky, got '{}'", what, name));
 }
 
 }  // namespace settle::lbm

@@ -23,6 +23,18 @@ enum class LatticeKind { D3Q19, D3Q27 };
 ///   D3Q27 only.
 enum class CollisionKind { bgk, trt, recursive_regularized, cumulant };
 
+/// Subgrid model: none, or Smagorinsky's eddy viscosity set per cell from the cell's own
+/// non-equilibrium momentum flux (Hou, Sterling, Chen & Doolen 1996; lbm/collision.hpp,
+/// smagorinsky_tau), with every collision operator.
+enum class SubgridModel { none, smagorinsky };
+
+/// The Smagorinsky constant C_S of a case that does not choose (nu_t = (C_S dx)^2 |S|): 0.1, the
+/// value Deardorff (1970, J. Fluid Mech. 41, 453-480, doi:10.1017/S0022112070000691) found for
+/// channel flow and the usual one in wall-bounded and sheared flows, rather than Lilly's (1967)
+/// 0.17 for isotropic turbulence in the inertial range, which over-damps shear layers and, with
+/// no wall damping here, the boundary layer of a body (Pope 2000, Turbulent Flows, Sec. 13.4).
+inline constexpr double kDefaultSmagorinskyConstant = 0.1;
+
 /// Storage type of the populations and of the per-cell force (arithmetic is double).
 enum class Precision { float32, float64 };
 
@@ -73,7 +85,9 @@ struct SolverConfig {
   double tau = 0.8;  ///< relaxation time of the shear viscosity, nu = cs^2 (tau - 1/2)
   /// TRT magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2).
   double magic = kWallExactTrtMagic;
-  Eigen::Vector3d body_force = Eigen::Vector3d::Zero();  ///< uniform force density
+  SubgridModel subgrid = SubgridModel::none;
+  double smagorinsky_constant = kDefaultSmagorinskyConstant;  ///< C_S, read with SubgridModel::smagorinsky
+  Eigen::Vector3d body_force = Eigen::Vector3d::Zero();       ///< uniform force density
   /// Set when the solver holds one block of a split lattice: nx, ny, nz are then that block's
   /// extent, while `boundaries` and `open_faces` describe the faces of the whole lattice.
   std::optional<BlockSplit> split;
@@ -97,16 +111,22 @@ void validate(const SolverConfig& config);
 /// other than `lattice` (the cumulant operator needs D3Q27's 27 moments). Part of validate; the
 /// preflight calls it too, before anything is planned.
 void check_collision_lattice(CollisionKind collision, LatticeKind lattice);
+/// Throws settle::InputError, naming the case keys, when the subgrid model cannot act on the
+/// collision operator (the Smagorinsky model is built into BGK, TRT and the recursive regularised
+/// operator only). Part of validate; the preflight calls it too.
+void check_collision_subgrid(CollisionKind collision, SubgridModel subgrid);
 
 std::string to_string(LatticeKind kind);
 std::string to_string(CollisionKind kind);
 std::string to_string(Precision kind);
 std::string to_string(Boundary kind);
+std::string to_string(SubgridModel kind);
 /// Parsers for the front end and the case file; throw settle::InputError listing the
 /// allowed names. `what` names the flag or key for the message.
 LatticeKind parse_lattice(const std::string& name, const std::string& what);
 CollisionKind parse_collision(const std::string& name, const std::string& what);
 Precision parse_precision(const std::string& name, const std::string& what);
 Boundary parse_boundary(const std::string& name, const std::string& what);
+SubgridModel parse_subgrid_model(const std::string& name, const std::string& what);
 
 }  // namespace settle::lbm

@@ -20,15 +20,23 @@ std::unique_ptr<Solver> make_with_precision(const SolverConfig& config) {
   return std::make_unique<AaSolver<L, Collision, double>>(config);
 }
 
+// The subgrid model is a distinct collision type, so that the plain operators' kernels carry none
+// of it (no branch per cell).
+template <Lattice L, class Operator>
+std::unique_ptr<Solver> make_with_subgrid(const SolverConfig& config) {
+  if (config.subgrid == SubgridModel::smagorinsky) return make_with_precision<L, Smagorinsky<Operator>>(config);
+  return make_with_precision<L, Operator>(config);
+}
+
 template <Lattice L>
 std::unique_ptr<Solver> make_with_collision(const SolverConfig& config) {
   switch (config.collision) {
     case CollisionKind::bgk:
-      return make_with_precision<L, Bgk>(config);
+      return make_with_subgrid<L, Bgk>(config);
     case CollisionKind::trt:
-      return make_with_precision<L, Trt>(config);
+      return make_with_subgrid<L, Trt>(config);
     case CollisionKind::recursive_regularized:
-      return make_with_precision<L, RecursiveRegularized>(config);
+      return make_with_subgrid<L, RecursiveRegularized>(config);
     case CollisionKind::cumulant:
       // validate (check_collision_lattice) has refused any other lattice.
       if constexpr (L::Q == 27) return make_with_precision<L, Cumulant>(config);

@@ -250,6 +250,8 @@ TEST(CaseSchema, EveryNumericsChoiceIsOneTheFluidSolverAccepts) {
     EXPECT_NO_THROW(lbm::parse_lattice(name, "numerics.lattice")) << name;
   for (const std::string& name : schema.find("numerics.precision")->choices)
     EXPECT_NO_THROW(lbm::parse_precision(name, "numerics.precision")) << name;
+  for (const std::string& name : schema.find("numerics.subgrid_model")->choices)
+    EXPECT_NO_THROW(lbm::parse_subgrid_model(name, "numerics.subgrid_model")) << name;
 }
 
 // TRT's magic parameter reaches the solver's set-up, and set with another operator it is reported
@@ -275,6 +277,39 @@ TEST(CaseSchema, TrtMagicReachesTheSetupAndIsReportedUnderAnotherOperator) {
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("[numerics] trt_magic"), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("(0.0, 1.0]"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The subgrid model and its constant reach the solver's set-up; the constant set without the model is
+// reported (it would change nothing), and out of its range refused naming the key.
+TEST(CaseSchema, SmagorinskyModelReachesTheSetupAndItsConstantAloneIsReported) {
+  const std::string base =
+      "[fluid]\ndensity = 1000\ndynamic_viscosity = 1e-3\n[particle]\nshape = \"sphere\"\ndiameter = 1e-3\n"
+      "density = 2500\n[domain]\nsize = [8e-3, 8e-3, 8e-3]\n[numerics]\n";
+  const auto values_of = [&base](const std::string& numerics) {
+    return parse_case(case_schema(), base + numerics, "case.toml");
+  };
+  const auto plain = simulation_setup(values_of(""), ".", "c");
+  EXPECT_EQ(plain.subgrid_model, lbm::SubgridModel::none);
+  EXPECT_EQ(plain.smagorinsky_constant, lbm::kDefaultSmagorinskyConstant);
+  const auto les =
+      simulation_setup(values_of("subgrid_model = \"smagorinsky\"\nsmagorinsky_constant = 0.17\n"), ".", "c");
+  EXPECT_EQ(les.subgrid_model, lbm::SubgridModel::smagorinsky);
+  EXPECT_EQ(les.smagorinsky_constant, 0.17);
+  EXPECT_TRUE(
+      unsupported_key_warnings(values_of("subgrid_model = \"smagorinsky\"\nsmagorinsky_constant = 0.17\n")).empty());
+  const auto alone = unsupported_key_warnings(values_of("smagorinsky_constant = 0.17\n"));
+  ASSERT_EQ(alone.size(), 1u);
+  EXPECT_NE(alone[0].find("numerics.smagorinsky_constant"), std::string::npos) << alone[0];
+  EXPECT_TRUE(unsupported_key_warnings(values_of("subgrid_model = \"none\"\nsmagorinsky_constant = 0.1\n")).empty());
+  for (const char* bad :
+       {"smagorinsky_constant = 0.0\n", "smagorinsky_constant = 0.6\n", "subgrid_model = \"wale\"\n"}) {
+    try {
+      values_of(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("[numerics] s"), std::string::npos) << e.what();
     }
   }
 }

@@ -297,6 +297,16 @@ TEST(LbmConfig, RejectsUnusableValuesWithTheKeyInTheMessage) {
   }
   cfg.lattice = LatticeKind::D3Q27;
   EXPECT_NO_THROW(make_solver(cfg));
+  // The Smagorinsky model is built into BGK, TRT and the recursive regularised operator only: with
+  // the cumulant operator it would be silently ignored, so it is refused naming both keys.
+  cfg.subgrid = SubgridModel::smagorinsky;
+  try {
+    make_solver(cfg);
+    FAIL() << "cumulant with the Smagorinsky model accepted";
+  } catch (const settle::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("numerics.subgrid_model"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("numerics.collision"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(parse_boundary("free-slip", "walls.x"), Boundary::free_slip);
 }
 
