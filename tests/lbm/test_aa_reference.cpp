@@ -653,7 +653,7 @@ TEST(LbmAaReference, CumulantD3Q27MatchesMomentSpaceReference) {
   EXPECT_LT(in_double, kRoundOff);
   // As FloatStorageFollowsDoubleReference below: float rounding of f - w (<= 0.2 w) per step.
   EXPECT_LT(in_float, 1e-8);
-  }
+}
 
 TEST(LbmAaReference, SmagorinskyWithEveryOperator) {
   // The eddy viscosity set per cell from the cell's own stress, under each operator (the

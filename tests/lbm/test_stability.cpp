@@ -22,7 +22,7 @@ namespace test_stability {
 using namespace settle::lbm;
 
 constexpr double kTau = 0.5 + 1.5e-4;  // nu = 5e-5: Re = U L / nu = 0.1 * 64 / 5e-5 = 128000
-constexpr double kU = 0.1;  // Mach number U / cs = 0.17
+constexpr double kU = 0.1;             // Mach number U / cs = 0.17
 constexpr int kL = 64;
 constexpr int kSteps = 4000;  // ~6 convective times L/U
 
