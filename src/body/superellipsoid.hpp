@@ -34,6 +34,7 @@ class Superellipsoid final : public Shape {
   std::string kind() const override { return "superellipsoid"; }
   /// Exact (F <= 1).
   bool contains(const Eigen::Vector3d& p) const override;
+  bool contains_is_closed_form() const override { return true; }
   /// Sign exact (from F). Magnitude: the nearest point of a fixed triangulation of the surface
   /// (cubed sphere with all vertices on the surface, grid edges <= d_eq/100 but at most 1e6
   /// triangles, which bodies more elongated or flatter than about 10:1 reach, with a coarser

@@ -14,6 +14,24 @@ double box_distance_squared(const Eigen::Vector3d& p, const Eigen::Vector3d& low
   return (below + above).squaredNorm();
 }
 
+// Whether the segment o + t d, t in [0, 1] widened by the margin, meets the box (`inverse` = 1 / d,
+// taken once per segment).
+bool segment_meets_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& inverse,
+                       const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, double margin) {
+  double enter = -margin, leave = 1.0 + margin;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lower[a] || o[a] > upper[a]) return false;
+      continue;
+    }
+    const double t0 = (lower[a] - o[a]) * inverse[a], t1 = (upper[a] - o[a]) * inverse[a];
+    enter = std::max(enter, std::min(t0, t1));
+    leave = std::min(leave, std::max(t0, t1));
+  }
+  // The margin again, for the round-off of the slabs when the segment touches a face of the box.
+  return enter <= leave + margin;
+}
+
 }  // namespace
 
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -148,6 +166,87 @@ TriangleBvh::Hit TriangleBvh::closest(const Eigen::Vector3d& p) const {
     }
   }
   return best;
+}
+
+bool TriangleBvh::leaf_hits(const Node& leaf, const Eigen::Vector3d& from, const Eigen::Vector3d& d,
+                            const Eigen::Vector3d& inverse, std::span<SegmentHit> hits, int& found) const {
+  if (!segment_meets_box(from, d, inverse, leaf.lower, leaf.upper, kHitMargin)) return true;
+  for (int slot = leaf.first; slot < leaf.first + leaf.count; ++slot) {
+    const auto& c = corners_[slot];
+    const Eigen::Vector3d e1 = c[1] - c[0], e2 = c[2] - c[0];
+    const Eigen::Vector3d p = d.cross(e2);
+    const double det = e1.dot(p);  // -d . (e1 x e2): positive when entering
+    if (det == 0.0) continue;
+    const Eigen::Vector3d s = from - c[0];
+    const double u = s.dot(p) / det;
+    if (u < -kHitMargin || u > 1.0 + kHitMargin) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < -kHitMargin || u + v > 1.0 + kHitMargin) continue;
+    const double t = e2.dot(q) / det;
+    if (t < -kHitMargin || t > 1.0 + kHitMargin) continue;
+    if (found == static_cast<int>(hits.size())) return false;
+    hits[static_cast<std::size_t>(found++)] = {t, det > 0.0};
+  }
+  return true;
+}
+
+int TriangleBvh::segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                              std::span<SegmentHit> hits) const {
+  if (nodes_.empty()) return 0;
+  const Eigen::Vector3d d = to - from;
+  const Eigen::Vector3d inverse = d.cwiseInverse();
+  int found = 0;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int index = stack[--top];
+    const Node& node = nodes_[index];
+    if (node.count > 0) {
+      if (!leaf_hits(node, from, d, inverse, hits, found)) return -1;
+    } else if (segment_meets_box(from, d, inverse, node.lower, node.upper, kHitMargin)) {
+      stack[top++] = node.first;
+      stack[top++] = index + 1;
+    }
+  }
+  return found;
+}
+
+int TriangleBvh::leaves_near(const Eigen::Vector3d& p, double radius, std::span<NearLeaf> leaves) const {
+  if (nodes_.empty()) return 0;
+  const double reach_squared = radius * radius * kReachMargin;
+  int found = 0;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int index = stack[--top];
+    const Node& node = nodes_[index];
+    const double distance_squared = box_distance_squared(p, node.lower, node.upper);
+    if (distance_squared > reach_squared) continue;
+    if (node.count > 0) {
+      if (found == static_cast<int>(leaves.size())) return -1;
+      leaves[static_cast<std::size_t>(found++)] = {index, distance_squared};
+    } else {
+      stack[top++] = node.first;
+      stack[top++] = index + 1;
+    }
+  }
+  return found;
+}
+
+int TriangleBvh::segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::span<const NearLeaf> leaves,
+                              std::span<SegmentHit> hits) const {
+  const Eigen::Vector3d d = to - from;
+  const Eigen::Vector3d inverse = d.cwiseInverse();
+  const double reach_squared = d.squaredNorm() * kReachMargin;
+  int found = 0;
+  for (const NearLeaf& leaf : leaves) {
+    if (leaf.distance_squared > reach_squared) continue;
+    if (!leaf_hits(nodes_[static_cast<std::size_t>(leaf.node)], from, d, inverse, hits, found)) return -1;
+  }
+  return found;
 }
 
 }  // namespace settle::body
