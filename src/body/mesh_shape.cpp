@@ -226,17 +226,15 @@ void MeshShape::surface_crossings(const Eigen::Vector3d& outside, std::span<cons
   for (const Eigen::Vector3d& inside : insides) radius = std::max(radius, (inside - outside).norm());
   // Tens of leaves lie within a link of a cell when the triangles are about a cell wide; a mesh
   // much finer than the grid has more, and its segments walk the tree one by one.
-  std::array<TriangleBvh::NearLeaf, 64> leaves;
-  const int leaf_count = bvh_.leaves_near(outside, radius, leaves);
+  TriangleBvh::LeavesNear near;
+  bvh_.leaves_near(outside, radius, near);
   for (std::size_t k = 0; k < insides.size(); ++k) {
-    if (leaf_count < 0) {
+    if (near.count < 0) {
       t[k] = surface_crossing(outside, insides[k]);
       continue;
     }
     std::array<TriangleBvh::SegmentHit, kMaxHits> hits;
-    const int count = bvh_.segment_hits(
-        outside, insides[k],
-        std::span<const TriangleBvh::NearLeaf>(leaves.data(), static_cast<std::size_t>(leaf_count)), hits);
+    const int count = bvh_.segment_hits(near, insides[k], hits);
     const std::optional<double> crossing = first_entering_crossing(hits, count);
     t[k] = crossing ? *crossing : Shape::surface_crossing(outside, insides[k]);
   }

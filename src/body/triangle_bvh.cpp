@@ -168,9 +168,8 @@ TriangleBvh::Hit TriangleBvh::closest(const Eigen::Vector3d& p) const {
   return best;
 }
 
-bool TriangleBvh::leaf_hits(const Node& leaf, const Eigen::Vector3d& from, const Eigen::Vector3d& d,
-                            const Eigen::Vector3d& inverse, std::span<SegmentHit> hits, int& found) const {
-  if (!segment_meets_box(from, d, inverse, leaf.lower, leaf.upper, kHitMargin)) return true;
+bool TriangleBvh::triangle_hits(const Node& leaf, const Eigen::Vector3d& from, const Eigen::Vector3d& d,
+                                std::span<SegmentHit> hits, int& found) const {
   for (int slot = leaf.first; slot < leaf.first + leaf.count; ++slot) {
     const auto& c = corners_[slot];
     const Eigen::Vector3d e1 = c[1] - c[0], e2 = c[2] - c[0];
@@ -203,31 +202,9 @@ int TriangleBvh::segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d
   while (top > 0) {
     const int index = stack[--top];
     const Node& node = nodes_[index];
+    if (!segment_meets_box(from, d, inverse, node.lower, node.upper, kHitMargin)) continue;
     if (node.count > 0) {
-      if (!leaf_hits(node, from, d, inverse, hits, found)) return -1;
-    } else if (segment_meets_box(from, d, inverse, node.lower, node.upper, kHitMargin)) {
-      stack[top++] = node.first;
-      stack[top++] = index + 1;
-    }
-  }
-  return found;
-}
-
-int TriangleBvh::leaves_near(const Eigen::Vector3d& p, double radius, std::span<NearLeaf> leaves) const {
-  if (nodes_.empty()) return 0;
-  const double reach_squared = radius * radius * kReachMargin;
-  int found = 0;
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const int index = stack[--top];
-    const Node& node = nodes_[index];
-    const double distance_squared = box_distance_squared(p, node.lower, node.upper);
-    if (distance_squared > reach_squared) continue;
-    if (node.count > 0) {
-      if (found == static_cast<int>(leaves.size())) return -1;
-      leaves[static_cast<std::size_t>(found++)] = {index, distance_squared};
+      if (!triangle_hits(node, from, d, hits, found)) return -1;
     } else {
       stack[top++] = node.first;
       stack[top++] = index + 1;
@@ -236,15 +213,66 @@ int TriangleBvh::leaves_near(const Eigen::Vector3d& p, double radius, std::span<
   return found;
 }
 
-int TriangleBvh::segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::span<const NearLeaf> leaves,
-                              std::span<SegmentHit> hits) const {
-  const Eigen::Vector3d d = to - from;
-  const Eigen::Vector3d inverse = d.cwiseInverse();
+void TriangleBvh::leaves_near(const Eigen::Vector3d& p, double radius, LeavesNear& near) const {
+  near.point = p;
+  near.count = 0;
+  if (nodes_.empty()) return;
+  const double reach_squared = radius * radius * kReachMargin;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int index = stack[--top];
+    const Node& node = nodes_[index];
+    const double distance_squared = box_distance_squared(p, node.lower, node.upper);
+    if (distance_squared > reach_squared) continue;
+    if (node.count == 0) {
+      stack[top++] = node.first;
+      stack[top++] = index + 1;
+      continue;
+    }
+    if (near.count == LeavesNear::kCapacity) {
+      near.count = -1;
+      return;
+    }
+    const auto at = static_cast<std::size_t>(near.count++);
+    const double widen = kHitMargin * (node.upper - node.lower).maxCoeff();
+    near.node[at] = index;
+    near.distance_squared[at] = distance_squared;
+    for (std::size_t a = 0; a < 3; ++a) {
+      near.lower[a][at] = node.lower[static_cast<Eigen::Index>(a)] - p[static_cast<Eigen::Index>(a)] - widen;
+      near.upper[a][at] = node.upper[static_cast<Eigen::Index>(a)] - p[static_cast<Eigen::Index>(a)] + widen;
+    }
+  }
+}
+
+int TriangleBvh::segment_hits(const LeavesNear& near, const Eigen::Vector3d& to, std::span<SegmentHit> hits) const {
+  const Eigen::Vector3d d = to - near.point;
+  // The slabs of a direction component that is zero would give 0 * inf = NaN where the segment
+  // lies in a face's plane; the widened boxes make a tiny stand-in for it exact: the point is then
+  // strictly inside the slab (no bound) or strictly outside (none of its triangles can be met).
+  std::array<double, 3> inverse{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double component = d[static_cast<Eigen::Index>(a)];
+    inverse[a] = 1.0 / (component != 0.0 ? component : 1e-300);
+  }
   const double reach_squared = d.squaredNorm() * kReachMargin;
+  // The slab test of every leaf, without branches (vectorised), then the triangles of those met.
+  std::array<unsigned char, LeavesNear::kCapacity> met{};
+  for (int i = 0; i < near.count; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    double enter = -kHitMargin, leave = 1.0 + kHitMargin;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double t0 = near.lower[a][k] * inverse[a], t1 = near.upper[a][k] * inverse[a];
+      enter = std::max(enter, std::min(t0, t1));
+      leave = std::min(leave, std::max(t0, t1));
+    }
+    met[k] = static_cast<unsigned char>((enter <= leave + kHitMargin) & (near.distance_squared[k] <= reach_squared));
+  }
   int found = 0;
-  for (const NearLeaf& leaf : leaves) {
-    if (leaf.distance_squared > reach_squared) continue;
-    if (!leaf_hits(nodes_[static_cast<std::size_t>(leaf.node)], from, d, inverse, hits, found)) return -1;
+  for (int i = 0; i < near.count; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (met[k] && !triangle_hits(nodes_[static_cast<std::size_t>(near.node[k])], near.point, d, hits, found)) return -1;
   }
   return found;
 }

@@ -58,20 +58,24 @@ class TriangleBvh {
   int segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::span<SegmentHit> hits) const;
   static constexpr double kHitMargin = 1e-12;
 
-  /// A leaf and the squared distance of its box from a point.
-  struct NearLeaf {
-    int node = 0;
-    double distance_squared = 0.0;
+  /// The leaves whose boxes come within a radius of a point (leaves_near): a segment from that
+  /// point no longer than the radius meets only their triangles, so several segments from it (the
+  /// links of a lattice cell) share one walk down the tree. Their boxes, relative to the point and
+  /// widened by kHitMargin of their size, are stored axis by axis, so that the compiler tests
+  /// several at once.
+  struct LeavesNear {
+    static constexpr int kCapacity = 64;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    int count = 0;  ///< -1: more than kCapacity leaves
+    std::array<int, kCapacity> node{};
+    std::array<std::array<double, kCapacity>, 3> lower{}, upper{};
+    std::array<double, kCapacity> distance_squared{};
   };
-  /// The leaves whose boxes come within `radius` of p, written to `leaves`; their number, or -1
-  /// when there are more than it holds. A segment from p no longer than `radius` meets only their
-  /// triangles, so segment_hits on them alone finds all of its hits: several segments from one
-  /// point (the links of a lattice cell) share one walk down the tree.
-  int leaves_near(const Eigen::Vector3d& p, double radius, std::span<NearLeaf> leaves) const;
-  /// segment_hits on the triangles of `leaves` (leaves_near of `from`) only, skipping those
-  /// farther from `from` than the segment is long.
-  int segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::span<const NearLeaf> leaves,
-                   std::span<SegmentHit> hits) const;
+  void leaves_near(const Eigen::Vector3d& p, double radius, LeavesNear& near) const;
+  /// segment_hits of the segment from near.point to `to` (no longer than leaves_near's radius),
+  /// on the triangles of `near` only: the same hits as the walk from the root, to the bit (the
+  /// boxes only filter; each hit is the same arithmetic on the same triangle).
+  int segment_hits(const LeavesNear& near, const Eigen::Vector3d& to, std::span<SegmentHit> hits) const;
 
  private:
   struct Node {
@@ -81,10 +85,10 @@ class TriangleBvh {
     int count = 0;  ///< leaf: number of triangles; inner: 0 (the left child follows the node)
   };
   int build(std::vector<int>& order, std::vector<Eigen::Vector3d>& centres, int begin, int end);
-  /// Adds the hits of the segment from `from` along `d` (1 / d is `inverse`) on a leaf's triangles
-  /// to hits[found...]; false when `hits` is full.
-  bool leaf_hits(const Node& leaf, const Eigen::Vector3d& from, const Eigen::Vector3d& d,
-                 const Eigen::Vector3d& inverse, std::span<SegmentHit> hits, int& found) const;
+  /// Adds the hits of the segment from `from` along `d` on a leaf's triangles to hits[found...];
+  /// false when `hits` is full.
+  bool triangle_hits(const Node& leaf, const Eigen::Vector3d& from, const Eigen::Vector3d& d,
+                     std::span<SegmentHit> hits, int& found) const;
 
   // Widens a squared reach, so that a leaf that a segment of exactly that length touches at its
   // end is kept against round-off.

@@ -58,8 +58,8 @@ struct BoxFrame {
   }
 };
 
-// The side of each cell of the box as the table settles it (-1 inside, +1 outside, 0 not settled);
-// cells beyond the bounding radius are outside, and without a table none is settled.
+// The side of each cell of the box as the table settles it (-1 inside, +1 outside, 0 not
+// settled); cells beyond the bounding radius are outside.
 std::vector<signed char> settled_sides(const BoxFrame& f) {
   std::vector<signed char> side(f.box.cell_count(), 0);
 #pragma omp parallel for schedule(static)
@@ -67,20 +67,16 @@ std::vector<signed char> settled_sides(const BoxFrame& f) {
     for (int j = 0; j < f.box.extent[1]; ++j)
       for (int i = 0; i < f.box.extent[0]; ++i) {
         const Eigen::Vector3d x = f.cell_point(i, j, k);
-        if ((x - f.pose.centre).norm() > f.reach) {
-          side[f.at(i, j, k)] = 1;
-        } else if (f.inside_table) {
-          side[f.at(i, j, k)] = static_cast<signed char>(f.inside_table->certain_side(f.body_point(x)));
-        }
+        const bool beyond = (x - f.pose.centre).norm() > f.reach;
+        side[f.at(i, j, k)] = beyond ? 1 : static_cast<signed char>(f.inside_table->certain_side(f.body_point(x)));
       }
   return side;
 }
 
 // The shape's own inside test of a cell the table left open: seen from a face neighbour that the
 // table settled when there is one (Shape::contains_from: a mesh counts the crossings between them).
-bool cell_inside(const BoxFrame& f, const std::vector<signed char>& side, int i, int j, int k) {
+bool unsettled_cell_inside(const BoxFrame& f, const std::vector<signed char>& side, int i, int j, int k) {
   const Eigen::Vector3d p = f.body_point(f.cell_point(i, j, k));
-  if (!f.inside_table) return f.shape.contains(p);
   constexpr std::array<std::array<int, 3>, 6> kFaces{
       {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
   for (const auto& c : kFaces) {
@@ -95,14 +91,24 @@ bool cell_inside(const BoxFrame& f, const std::vector<signed char>& side, int i,
 // 1 for the box's cells whose centres lie inside the body. The shape's queries are const and
 // thread-safe (body/shape.hpp).
 std::vector<unsigned char> inside_cells(const BoxFrame& f) {
-  const std::vector<signed char> side = settled_sides(f);
   std::vector<unsigned char> inside(f.box.cell_count(), 0);
+  if (!f.inside_table) {
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < f.box.extent[2]; ++k)
+      for (int j = 0; j < f.box.extent[1]; ++j)
+        for (int i = 0; i < f.box.extent[0]; ++i) {
+          const Eigen::Vector3d x = f.cell_point(i, j, k);
+          if ((x - f.pose.centre).norm() <= f.reach && f.shape.contains(f.body_point(x))) inside[f.at(i, j, k)] = 1;
+        }
+    return inside;
+  }
+  const std::vector<signed char> side = settled_sides(f);
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < f.box.extent[2]; ++k)
     for (int j = 0; j < f.box.extent[1]; ++j)
       for (int i = 0; i < f.box.extent[0]; ++i) {
         const signed char s = side[f.at(i, j, k)];
-        if (s < 0 || (s == 0 && cell_inside(f, side, i, j, k))) inside[f.at(i, j, k)] = 1;
+        if (s < 0 || (s == 0 && unsettled_cell_inside(f, side, i, j, k))) inside[f.at(i, j, k)] = 1;
       }
   return inside;
 }

@@ -102,12 +102,11 @@ TEST(TriangleBvh, LeavesNearTheStartHoldEveryHit) {
   for (int i = 0; i < 2000; ++i) {
     const Eigen::Vector3d from = shell(rng) * testing::random_unit(rng);
     const Eigen::Vector3d to = from + std::sqrt(2.0) * testing::random_unit(rng);
-    std::array<TriangleBvh::NearLeaf, 256> leaves;
-    const int leaf_count = tree.leaves_near(from, std::sqrt(2.0), leaves);
-    ASSERT_GT(leaf_count, 0);
+    TriangleBvh::LeavesNear leaves;
+    tree.leaves_near(from, std::sqrt(2.0), leaves);
+    ASSERT_GT(leaves.count, 0);
     std::array<TriangleBvh::SegmentHit, 16> buffer;
-    const int count = tree.segment_hits(
-        from, to, std::span<const TriangleBvh::NearLeaf>(leaves.data(), static_cast<std::size_t>(leaf_count)), buffer);
+    const int count = tree.segment_hits(leaves, to, buffer);
     Hits near(buffer.begin(), buffer.begin() + count);
     std::sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
     const Hits all = hits_of(tree, from, to);
