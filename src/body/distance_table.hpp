@@ -3,6 +3,7 @@
 // the immersed boundary's volume fractions need at the corners of every cell the surface cuts, at
 // every step, for a fraction of the cost of the exact distance (the closest point of an ellipsoid
 // is a root search, of a mesh a tree walk). docs/coupling.md, "Volume fractions", states the error.
+// The momentum exchange asks it which side of a mesh's surface a cell lies on (certain_side).
 #include <array>
 #include <memory>
 #include <numbers>

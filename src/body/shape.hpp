@@ -74,7 +74,8 @@ class Shape {
   /// Where the segment from `outside` to `inside` meets the surface, as the fraction t in [0, 1]
   /// of the way (0 when `outside` is not outside, 1 when `inside` is not inside). The default
   /// finds the root of signed_distance along the segment (a lattice link of the momentum exchange,
-  /// short against the body: one crossing); shapes with a closed form override it.
+  /// short against the body: one crossing) to 1e-9 of its length; ellipsoids (closed form),
+  /// superellipsoids (Newton's method on the gauge) and meshes (the triangles' hits) override it.
   virtual double surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const;
   /// surface_crossing of the segments from one `outside` point to each of `insides`, into `t` (the
   /// links of one fluid cell). The default asks surface_crossing for each; a mesh gathers the

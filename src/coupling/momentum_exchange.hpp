@@ -2,8 +2,10 @@
 // The sharp-interface coupling behind BodyCoupling (coupling/body_coupling.hpp), lattice units.
 //
 // At each step's pose the cells whose centres lie inside the body are solid; every link from a
-// fluid cell x along c_i to a solid cell crosses the surface at x + q c_i, q in (0, 1], found on
-// the link from the shape's signed distance (any shape, STL meshes included). The fluid closes
+// fluid cell x along c_i to a solid cell crosses the surface at x + q c_i, q in (0, 1], found by
+// the shape (Shape::surface_crossings: a closed form, Newton's method on a superellipsoid's gauge,
+// a mesh's triangles, else a root search on the signed distance; docs/coupling.md, "Finding the
+// walls"). A mesh's inside test is first asked of a body-frame table of its distance. The fluid closes
 // those links by interpolated bounce-back with the wall's rigid-body velocity at the crossing
 // (Bouzidi, Firdaouss and Lallemand 2001, doi:10.1063/1.1399290; lbm::WallRule), and the force
 // and torque on the body are the momentum the links exchange, in the Galilean-invariant form of
