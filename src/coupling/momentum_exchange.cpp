@@ -58,66 +58,46 @@ struct BoxFrame {
   }
 };
 
-// The side of each cell of the box as the table settles it (-1 inside, +1 outside, 0 not
-// settled); cells beyond the bounding radius are outside.
-std::vector<signed char> settled_sides(const BoxFrame& f) {
-  std::vector<signed char> side(f.box.cell_count(), 0);
-#pragma omp parallel for schedule(static)
-  for (int k = 0; k < f.box.extent[2]; ++k)
-    for (int j = 0; j < f.box.extent[1]; ++j)
-      for (int i = 0; i < f.box.extent[0]; ++i) {
-        const Eigen::Vector3d x = f.cell_point(i, j, k);
-        const bool beyond = (x - f.pose.centre).norm() > f.reach;
-        side[f.at(i, j, k)] = beyond ? 1 : static_cast<signed char>(f.inside_table->certain_side(f.body_point(x)));
-      }
-  return side;
-}
-
-// The shape's own inside test of a cell the table left open: seen from a face neighbour that the
-// table settled when there is one (Shape::contains_from: a mesh counts the crossings between them).
-bool unsettled_cell_inside(const BoxFrame& f, const std::vector<signed char>& side, int i, int j, int k) {
-  const Eigen::Vector3d p = f.body_point(f.cell_point(i, j, k));
+// Whether a cell's centre lies inside the body. With a table: the table's side where it settles it,
+// else the shape's own test seen from a face neighbour that the table settles (Shape::contains_from:
+// a mesh counts the crossings between them), else the shape's own test. The shape's queries are
+// const and thread-safe (body/shape.hpp).
+bool cell_inside(const BoxFrame& f, int i, int j, int k) {
+  const Eigen::Vector3d x = f.cell_point(i, j, k);
+  if ((x - f.pose.centre).norm() > f.reach) return false;
+  const Eigen::Vector3d p = f.body_point(x);
+  if (!f.inside_table) return f.shape.contains(p);
+  const int side = f.inside_table->certain_side(p);
+  if (side != 0) return side < 0;
   constexpr std::array<std::array<int, 3>, 6> kFaces{
       {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
   for (const auto& c : kFaces) {
-    const int ni = i + c[0], nj = j + c[1], nk = k + c[2];
-    if (ni < 0 || nj < 0 || nk < 0 || ni >= f.box.extent[0] || nj >= f.box.extent[1] || nk >= f.box.extent[2]) continue;
-    const signed char s = side[f.at(ni, nj, nk)];
-    if (s != 0) return f.shape.contains_from(p, f.body_point(f.cell_point(ni, nj, nk)), s < 0);
+    const Eigen::Vector3d reference = f.body_point(x + Eigen::Vector3d(c[0], c[1], c[2]));
+    const int reference_side = f.inside_table->certain_side(reference);
+    if (reference_side != 0) return f.shape.contains_from(p, reference, reference_side < 0);
   }
   return f.shape.contains(p);
 }
 
-// 1 for the box's cells whose centres lie inside the body. The shape's queries are const and
-// thread-safe (body/shape.hpp).
+// 1 for the box's cells whose centres lie inside the body.
 std::vector<unsigned char> inside_cells(const BoxFrame& f) {
   std::vector<unsigned char> inside(f.box.cell_count(), 0);
-  if (!f.inside_table) {
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < f.box.extent[2]; ++k)
-      for (int j = 0; j < f.box.extent[1]; ++j)
-        for (int i = 0; i < f.box.extent[0]; ++i) {
-          const Eigen::Vector3d x = f.cell_point(i, j, k);
-          if ((x - f.pose.centre).norm() <= f.reach && f.shape.contains(f.body_point(x))) inside[f.at(i, j, k)] = 1;
-        }
-    return inside;
-  }
-  const std::vector<signed char> side = settled_sides(f);
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < f.box.extent[2]; ++k)
     for (int j = 0; j < f.box.extent[1]; ++j)
-      for (int i = 0; i < f.box.extent[0]; ++i) {
-        const signed char s = side[f.at(i, j, k)];
-        if (s < 0 || (s == 0 && unsettled_cell_inside(f, side, i, j, k))) inside[f.at(i, j, k)] = 1;
-      }
+      for (int i = 0; i < f.box.extent[0]; ++i)
+        if (cell_inside(f, i, j, k)) inside[f.at(i, j, k)] = 1;
   return inside;
 }
 
 // The links from the fluid cells of plane k into the body, with their crossings (all of a cell's
 // links in one query: a mesh then walks its tree once per cell).
 void plane_links(const BoxFrame& f, const std::vector<unsigned char>& inside,
-                 std::span<const std::array<int, 3>> velocities, int k, BodyWalls& plane) {
+                 std::span<const std::array<int, 3>> velocities, int k, BodyWalls& result) {
   const CellBox& box = f.box;
+  // Filled here and moved out at the end: the planes' vectors lie side by side, and growing them in
+  // place from two threads would share their cache lines.
+  BodyWalls plane;
   std::vector<std::size_t> directions;
   std::vector<Eigen::Vector3d> ends;
   std::vector<double> fractions;
@@ -151,6 +131,7 @@ void plane_links(const BoxFrame& f, const std::vector<unsigned char>& inside,
         plane.crossing.push_back(wall);
       }
     }
+  result = std::move(plane);
 }
 
 }  // namespace
