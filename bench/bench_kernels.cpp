@@ -13,8 +13,10 @@
 
 #include "attitude/integrators.hpp"
 #include "body/ellipsoid.hpp"
+#include "body/shape_factory.hpp"
 #include "coupling/immersed_body.hpp"
 #include "coupling/immersed_boundary_coupling.hpp"
+#include "coupling/momentum_exchange.hpp"
 #include "ibm/forcing.hpp"
 #include "lbm/solver.hpp"
 
@@ -95,6 +97,47 @@ void BM_SpheroidSolidCells(benchmark::State& state) {
   state.counters["cells"] = static_cast<double>(cells);
 }
 BENCHMARK(BM_SpheroidSolidCells)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The momentum exchange's walls at one pose (the `markers` sub-step of `settle bench --case`):
+// range(0) 0 the rounded cube (superellipsoid, exponents 0.4, 12 cells per d_eq), 1 the shipped
+// grain (cases/grain.stl, 10 cells per d_eq), 2 a sphere of 10 cells; at a generic tilt and off the
+// grid's symmetric positions, the pose advancing a little every iteration as in a run.
+void BM_MomentumExchangeWalls(benchmark::State& state) {
+  body::ShapeSpec spec;
+  double cells_per_diameter = 10.0;
+  if (state.range(0) == 0) {
+    spec.shape = "superellipsoid", spec.semi_axes = {{0.5e-3, 0.5e-3, 0.5e-3}}, spec.exponents = {{0.4, 0.4}};
+    cells_per_diameter = 12.0;
+  } else if (state.range(0) == 1) {
+    spec.shape = "mesh", spec.file = std::string(SETTLE_SOURCE_DIR) + "/cases/grain.stl", spec.scale = 5.0e-4;
+  } else {
+    spec.shape = "sphere", spec.diameter = 1.0e-3;
+  }
+  const std::shared_ptr<const body::Shape> shape = body::make_shape(spec);
+  const double dx_si = shape->equivalent_diameter() / cells_per_diameter;
+  const auto inside_table = coupling::inside_table_for(shape, dx_si);  // the coupling's, built once
+  coupling::LatticePose pose;
+  pose.velocity = Eigen::Vector3d(0.001, -0.002, -0.03);
+  pose.angular_velocity_n = Eigen::Vector3d(1e-3, 2e-3, -1e-3);
+  const auto velocities = lbm::velocity_set(lbm::LatticeKind::D3Q19);
+  std::size_t links = 0;
+  int step = 0;
+  for (auto _ : state) {
+    pose.centre = Eigen::Vector3d(40.3, 41.7, 60.2) + static_cast<double>(step % 64) * pose.velocity;
+    pose.body_to_inertial =
+        (Eigen::AngleAxisd(0.4 + 1e-3 * (step % 64), Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
+    ++step;
+    const coupling::CellBox box = coupling::momentum_exchange_box(*shape, dx_si, pose.centre, pose.body_to_inertial);
+    const coupling::BodyWalls walls =
+        coupling::body_walls(*shape, dx_si, box, pose, velocities, lbm::WallRule::bouzidi, inside_table.get());
+    links = walls.obstacle.links.size();
+    benchmark::DoNotOptimize(walls.crossing.data());
+  }
+  state.counters["links"] = static_cast<double>(links);
+}
+BENCHMARK(BM_MomentumExchangeWalls)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 // Density and velocity of every cell of a 13 x 13 x 16 box of a 48 x 48 x 96 float grid (the
 // immersed boundary's gather of the default case's body), after an odd (range(0) = 0) or even (1)

@@ -13,6 +13,7 @@ class Cuboid final : public Shape {
 
   std::string kind() const override { return "cuboid"; }
   bool contains(const Eigen::Vector3d& p) const override;
+  bool contains_is_closed_form() const override { return true; }
   /// Exact box distance: |max(q, 0)| + min(max_i q_i, 0) with q = |p| - size/2.
   double signed_distance(const Eigen::Vector3d& p) const override;
   bool signed_distance_is_closed_form() const override { return true; }

@@ -15,6 +15,7 @@ class Cylinder final : public Shape {
 
   std::string kind() const override { return "cylinder"; }
   bool contains(const Eigen::Vector3d& p) const override;
+  bool contains_is_closed_form() const override { return true; }
   /// Exact: the distance to the rectangle |rho| <= R, |z| <= L/2 in the meridian plane.
   double signed_distance(const Eigen::Vector3d& p) const override;
   bool signed_distance_is_closed_form() const override { return true; }

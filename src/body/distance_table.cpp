@@ -21,7 +21,7 @@ double trilinear(const double (&v)[8], const Eigen::Vector3d& t) {
 }  // namespace
 
 DistanceTable::DistanceTable(std::shared_ptr<const Shape> shape, double spacing, double margin, double band)
-    : shape_(std::move(shape)), spacing_(spacing) {
+    : shape_(std::move(shape)), spacing_(spacing), band_(band) {
   if (!shape_) throw std::invalid_argument("DistanceTable: no shape");
   if (!(spacing > 0.0) || !(margin >= 0.0) || !(band > 0.0))
     throw std::invalid_argument("DistanceTable: spacing and band must be > 0, margin >= 0");
@@ -81,6 +81,28 @@ void DistanceTable::fill(double band) {
           values_[node(i, j, k)] = static_cast<float>(coarse);
         }
       }
+}
+
+// Why the threshold settles the side. A node holds the exact distance d(n) (to 1e-4 spacings h:
+// the shape's round-off and the float's 2^-24 of values of a few h), or, farther than the band from
+// the surface, the coarse interpolation (fill): of the right sign there. Trilinear interpolation is
+// a convex combination of the cell's eight nodes n_k with weights w_k, and d is 1-Lipschitz, so if
+// all eight are exact |interpolated - d(p)| <= sum_k w_k |n_k - p| + 1e-4 h; that weighted sum is
+// largest at the cell's centre, h sqrt(3) / 2 (in one dimension 2 t (1 - t) h <= h / 2; checked on
+// a grid of the cell in tests/body/test_distance_table.cpp): beyond the threshold the sign is
+// d(p)'s. If a node is coarse, d there is at least the band >= 2 sqrt(3) h, so d keeps its sign
+// within h sqrt(3) of it: at p and at every node of the cell, whose values all share it, and so
+// does the interpolation.
+int DistanceTable::certain_side(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d t = (p - lower_) / spacing_;
+  for (int a = 0; a < 3; ++a) {
+    if (!(t[a] >= 0.0 && t[a] <= count_[static_cast<std::size_t>(a)] - 1)) return 1;
+  }
+  if (band_ < 2.0 * std::sqrt(3.0) * spacing_) return 0;
+  const double interpolated = signed_distance(p);
+  if (interpolated > kCertainSpacings * spacing_) return 1;
+  if (interpolated < -kCertainSpacings * spacing_) return -1;
+  return 0;
 }
 
 double DistanceTable::signed_distance(const Eigen::Vector3d& p) const {

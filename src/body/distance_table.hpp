@@ -3,8 +3,10 @@
 // the immersed boundary's volume fractions need at the corners of every cell the surface cuts, at
 // every step, for a fraction of the cost of the exact distance (the closest point of an ellipsoid
 // is a root search, of a mesh a tree walk). docs/coupling.md, "Volume fractions", states the error.
+// The momentum exchange asks it which side of a mesh's surface a cell lies on (certain_side).
 #include <array>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -25,6 +27,14 @@ class DistanceTable {
   /// Signed distance (negative inside) at a body-frame point: interpolated inside the table, exact
   /// beyond it.
   double signed_distance(const Eigen::Vector3d& p) const;
+  /// The side of the surface a body-frame point lies on, where the table alone settles it: -1
+  /// inside, +1 outside, 0 too near the surface to tell (ask the shape). Beyond the table (the
+  /// bounding box and the margin) outside. Settled where the interpolated distance exceeds
+  /// kCertainSpacings spacings, the interpolation's worst error sqrt(3) / 2 (.cpp); exact for shapes whose
+  /// signed distance is exact to 1e-4 spacings (a mesh: to round-off), in a table whose band is at
+  /// least 2 sqrt(3) spacings (otherwise always 0).
+  int certain_side(const Eigen::Vector3d& p) const;
+  static constexpr double kCertainSpacings = 0.5 * std::numbers::sqrt3 + 1e-4;  // and the nodes' error
 
   const Shape& shape() const { return *shape_; }
   double spacing() const { return spacing_; }
@@ -49,6 +59,7 @@ class DistanceTable {
   std::array<int, 3> count_{};
   std::vector<float> values_;
   std::size_t exact_nodes_ = 0;
+  double band_ = 0.0;
 };
 
 }  // namespace settle::body

@@ -21,6 +21,7 @@ class Ellipsoid final : public Shape {
 
   std::string kind() const override { return kind_; }
   bool contains(const Eigen::Vector3d& p) const override;
+  bool contains_is_closed_form() const override { return true; }
   /// Exact (to round-off): the closest point solves the Lagrange condition
   /// x_i = a_i^2 p_i / (a_i^2 + t), whose multiplier t is the root of a monotone convex function,
   /// bracketed and solved to machine precision by Newton's method from below (bisection where

@@ -1,10 +1,12 @@
 #include "body/mesh_shape.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <string_view>
 
 #include <fmt/core.h>
@@ -217,6 +219,75 @@ double MeshShape::signed_distance(const Eigen::Vector3d& p) const {
   const TriangleBvh::Hit hit = bvh_.closest(p);
   const double distance = std::sqrt(hit.distance_squared);
   return (p - hit.point).dot(feature_normal(hit)) > 0.0 ? distance : -distance;
+}
+
+namespace {
+
+// The first crossing of a segment from its hits (count of them, -1 for too many), when the hits at
+// its first and at its last crossing all enter the solid (within the hit margin: an edge or a
+// vertex is reported by each of its triangles); nothing otherwise.
+std::optional<double> first_entering_crossing(std::span<TriangleBvh::SegmentHit> hits, int count) {
+  if (count <= 0) return std::nullopt;
+  const auto end = hits.begin() + count;
+  std::sort(hits.begin(), end, [](const auto& a, const auto& b) { return a.t < b.t; });
+  const double first = hits.front().t, last = (end - 1)->t;
+  constexpr double kSame = 2.0 * TriangleBvh::kHitMargin;
+  const bool ends_enter = std::all_of(hits.begin(), end, [&](const auto& hit) {
+    return hit.entering || (hit.t > first + kSame && hit.t < last - kSame);
+  });
+  if (!ends_enter) return std::nullopt;
+  return std::clamp(first, 0.0, 1.0);
+}
+
+constexpr std::size_t kMaxHits = 16;
+
+// Whether the hits within the hit margin of hits[at] (sorted by t) all cross the same way.
+bool crossing_is_clear(std::span<const TriangleBvh::SegmentHit> hits, std::size_t at) {
+  constexpr double kSame = 2.0 * TriangleBvh::kHitMargin;
+  return std::all_of(hits.begin(), hits.end(), [&](const auto& hit) {
+    return std::abs(hit.t - hits[at].t) > kSame || hit.entering == hits[at].entering;
+  });
+}
+
+}  // namespace
+
+bool MeshShape::contains_from(const Eigen::Vector3d& p, const Eigen::Vector3d& reference, bool reference_inside) const {
+  std::array<TriangleBvh::SegmentHit, kMaxHits> buffer;
+  const int count = bvh_.segment_hits(reference, p, buffer);
+  if (count == 0) return reference_inside;
+  if (count < 0) return contains(p);
+  const std::span<TriangleBvh::SegmentHit> hits(buffer.data(), static_cast<std::size_t>(count));
+  std::sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+  const std::size_t last = hits.size() - 1;
+  const bool clear = hits[last].t < 1.0 - 2.0 * TriangleBvh::kHitMargin && crossing_is_clear(hits, 0) &&
+                     crossing_is_clear(hits, last) && hits[0].entering != reference_inside;
+  return clear ? hits[last].entering : contains(p);
+}
+
+double MeshShape::surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const {
+  std::array<TriangleBvh::SegmentHit, kMaxHits> hits;
+  const std::optional<double> t = first_entering_crossing(hits, bvh_.segment_hits(outside, inside, hits));
+  return t ? *t : Shape::surface_crossing(outside, inside);
+}
+
+void MeshShape::surface_crossings(const Eigen::Vector3d& outside, std::span<const Eigen::Vector3d> insides,
+                                  std::span<double> t) const {
+  double radius = 0.0;
+  for (const Eigen::Vector3d& inside : insides) radius = std::max(radius, (inside - outside).norm());
+  // Tens of leaves lie within a link of a cell when the triangles are about a cell wide; a mesh
+  // much finer than the grid has more, and its segments walk the tree one by one.
+  TriangleBvh::LeavesNear near;
+  bvh_.leaves_near(outside, radius, near);
+  for (std::size_t k = 0; k < insides.size(); ++k) {
+    if (near.count < 0) {
+      t[k] = surface_crossing(outside, insides[k]);
+      continue;
+    }
+    std::array<TriangleBvh::SegmentHit, kMaxHits> hits;
+    const int count = bvh_.segment_hits(near, insides[k], hits);
+    const std::optional<double> crossing = first_entering_crossing(hits, count);
+    t[k] = crossing ? *crossing : Shape::surface_crossing(outside, insides[k]);
+  }
 }
 
 Eigen::Vector3d MeshShape::closest_surface_point(const Eigen::Vector3d& p) const { return bvh_.closest(p).point; }

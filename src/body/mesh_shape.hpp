@@ -28,6 +28,11 @@ class MeshShape final : public Shape {
 
   std::string kind() const override { return "mesh"; }
   bool contains(const Eigen::Vector3d& p) const override { return signed_distance(p) <= 0.0; }
+  /// Exact: the side the last crossing of the segment from `reference` to p leads to (TriangleBvh::
+  /// segment_hits, no crossing: the reference's side); contains(p) where that is not clear (p on
+  /// the surface within the hit margin, triangles at the first or last crossing that disagree, a
+  /// first crossing that contradicts `reference_inside`).
+  bool contains_from(const Eigen::Vector3d& p, const Eigen::Vector3d& reference, bool reference_inside) const override;
   /// Exact distance to the mesh (BVH); the sign from the angle-weighted pseudonormal of the
   /// nearest face, edge or vertex (Baerentzen and Aanaes 2005, IEEE TVCG 11(3) 243-253,
   /// doi:10.1109/TVCG.2005.49), which is correct for closed, consistently oriented meshes.
@@ -35,6 +40,15 @@ class MeshShape final : public Shape {
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   /// The pseudonormal of the nearest feature (the face normal inside a face).
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;
+  /// Exact: the segment's first hit on the mesh (TriangleBvh::segment_hits), when its first and
+  /// last hits both enter the solid (then `outside` is outside and `inside` inside, the contract's
+  /// ordinary case); a segment that crosses the surface three times gets its first crossing, the
+  /// wall nearest the fluid. Anything else (no hit, a first or last crossing through an edge or
+  /// vertex whose triangles disagree, more than 16 hits) takes the base class's root finder.
+  double surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const override;
+  /// As surface_crossing, with the tree walked once for all the segments (TriangleBvh::leaves_near).
+  void surface_crossings(const Eigen::Vector3d& outside, std::span<const Eigen::Vector3d> insides,
+                         std::span<double> t) const override;
   double bounding_radius() const override { return bounding_radius_; }
   Aabb bounding_box() const override { return box_; }
   /// Exact: max over vertices of n . v.

@@ -52,6 +52,11 @@ double Shape::surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vect
   return 0.5 * (t0 + t1);
 }
 
+void Shape::surface_crossings(const Eigen::Vector3d& outside, std::span<const Eigen::Vector3d> insides,
+                              std::span<double> t) const {
+  for (std::size_t k = 0; k < insides.size(); ++k) t[k] = surface_crossing(outside, insides[k]);
+}
+
 double Shape::width(const Eigen::Vector3d& direction) const { return support(direction) + support(-direction); }
 
 void validate_marker_spacing(double spacing, double surface_area, const char* what) {

@@ -10,6 +10,7 @@
 //
 // Shapes are immutable after construction and all queries are const and thread-safe, so the
 // immersed-boundary code may call signed_distance from many threads.
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,17 @@ class Shape {
 
   /// Exact inside test (points on the surface count as inside).
   virtual bool contains(const Eigen::Vector3d& p) const = 0;
+  /// True when contains is a closed form costing a few arithmetic operations or powers (no tree
+  /// walk): the momentum exchange then asks it for every cell near the body, and otherwise first
+  /// asks a table of the signed distance (body::DistanceTable::certain_side).
+  virtual bool contains_is_closed_form() const { return false; }
+  /// contains(p), given a point `reference` near p whose side is known (`reference_inside`): a
+  /// mesh counts the crossings between them instead of searching its nearest triangle. The default
+  /// asks contains.
+  virtual bool contains_from(const Eigen::Vector3d& p, const Eigen::Vector3d& /*reference*/,
+                             bool /*reference_inside*/) const {
+    return contains(p);
+  }
   /// Signed distance to the surface, negative inside.
   virtual double signed_distance(const Eigen::Vector3d& p) const = 0;
   /// True when signed_distance is a closed form costing a few arithmetic operations (no root
@@ -62,8 +74,14 @@ class Shape {
   /// Where the segment from `outside` to `inside` meets the surface, as the fraction t in [0, 1]
   /// of the way (0 when `outside` is not outside, 1 when `inside` is not inside). The default
   /// finds the root of signed_distance along the segment (a lattice link of the momentum exchange,
-  /// short against the body: one crossing); shapes with a closed form override it.
+  /// short against the body: one crossing) to 1e-9 of its length; ellipsoids (closed form),
+  /// superellipsoids (Newton's method on the gauge) and meshes (the triangles' hits) override it.
   virtual double surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const;
+  /// surface_crossing of the segments from one `outside` point to each of `insides`, into `t` (the
+  /// links of one fluid cell). The default asks surface_crossing for each; a mesh gathers the
+  /// triangles near `outside` once.
+  virtual void surface_crossings(const Eigen::Vector3d& outside, std::span<const Eigen::Vector3d> insides,
+                                 std::span<double> t) const;
 
   /// Largest distance of a body point from the centroid.
   virtual double bounding_radius() const = 0;

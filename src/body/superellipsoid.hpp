@@ -9,6 +9,7 @@
 // are so sharp that the surface triangulation behind the distance would need impractically
 // many triangles to keep its documented accuracy.
 #include <memory>
+#include <utility>
 
 #include "body/shape.hpp"
 #include "body/triangle_bvh.hpp"
@@ -34,6 +35,7 @@ class Superellipsoid final : public Shape {
   std::string kind() const override { return "superellipsoid"; }
   /// Exact (F <= 1).
   bool contains(const Eigen::Vector3d& p) const override;
+  bool contains_is_closed_form() const override { return true; }
   /// Sign exact (from F). Magnitude: the nearest point of a fixed triangulation of the surface
   /// (cubed sphere with all vertices on the surface, grid edges <= d_eq/100 but at most 1e6
   /// triangles, which bodies more elongated or flatter than about 10:1 reach, with a coarser
@@ -49,6 +51,13 @@ class Superellipsoid final : public Shape {
   Eigen::Vector3d closest_surface_point(const Eigen::Vector3d& p) const override;
   /// Normalised gradient of the gauge.
   Eigen::Vector3d outward_normal(const Eigen::Vector3d& surface_point) const override;
+  /// Newton's method on N - 1 along the segment from `outside`: N is convex (a norm), so along a
+  /// line it is a convex function of t, and from the outside end its iterates rise monotonically to
+  /// the one crossing without leaving the segment (no bracket needed). Stops after a step below
+  /// 1e-7 of the segment (quadratic convergence: the error is then below 1e-12 of it, against the
+  /// base class's 1e-9); falls back to the base class's root finder where round-off stalls it.
+  /// 3 to 4 evaluations of 5 powers each, against the base class's 5 to 10 signed distances.
+  double surface_crossing(const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) const override;
   /// Exact: the squared distance a^2 cos^2e1(eta) cos^2e2(w) + ... separates into two
   /// one-dimensional maxima of A u^e + B (1 - u)^e, which have closed forms.
   double bounding_radius() const override { return bounding_radius_; }
@@ -79,6 +88,8 @@ class Superellipsoid final : public Shape {
 
  private:
   Eigen::Vector3d gauge_gradient(const Eigen::Vector3d& p) const;
+  /// The gauge and its gradient from the same five powers (surface_crossing's Newton steps).
+  std::pair<double, Eigen::Vector3d> gauge_and_gradient(const Eigen::Vector3d& p) const;
   Eigen::Vector3d radial_projection(const Eigen::Vector3d& p) const;
   /// From surface point q towards the foot of p: q + tangential part of (p - q), moved
   /// radially back onto the surface.

@@ -14,6 +14,24 @@ double box_distance_squared(const Eigen::Vector3d& p, const Eigen::Vector3d& low
   return (below + above).squaredNorm();
 }
 
+// Whether the segment o + t d, t in [0, 1] widened by the margin, meets the box (`inverse` = 1 / d,
+// taken once per segment).
+bool segment_meets_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& inverse,
+                       const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, double margin) {
+  double enter = -margin, leave = 1.0 + margin;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lower[a] || o[a] > upper[a]) return false;
+      continue;
+    }
+    const double t0 = (lower[a] - o[a]) * inverse[a], t1 = (upper[a] - o[a]) * inverse[a];
+    enter = std::max(enter, std::min(t0, t1));
+    leave = std::min(leave, std::max(t0, t1));
+  }
+  // The margin again, for the round-off of the slabs when the segment touches a face of the box.
+  return enter <= leave + margin;
+}
+
 }  // namespace
 
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -148,6 +166,115 @@ TriangleBvh::Hit TriangleBvh::closest(const Eigen::Vector3d& p) const {
     }
   }
   return best;
+}
+
+bool TriangleBvh::triangle_hits(const Node& leaf, const Eigen::Vector3d& from, const Eigen::Vector3d& d,
+                                std::span<SegmentHit> hits, int& found) const {
+  for (int slot = leaf.first; slot < leaf.first + leaf.count; ++slot) {
+    const auto& c = corners_[slot];
+    const Eigen::Vector3d e1 = c[1] - c[0], e2 = c[2] - c[0];
+    const Eigen::Vector3d p = d.cross(e2);
+    const double det = e1.dot(p);  // -d . (e1 x e2): positive when entering
+    if (det == 0.0) continue;
+    const Eigen::Vector3d s = from - c[0];
+    const double u = s.dot(p) / det;
+    if (u < -kHitMargin || u > 1.0 + kHitMargin) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < -kHitMargin || u + v > 1.0 + kHitMargin) continue;
+    const double t = e2.dot(q) / det;
+    if (t < -kHitMargin || t > 1.0 + kHitMargin) continue;
+    if (found == static_cast<int>(hits.size())) return false;
+    hits[static_cast<std::size_t>(found++)] = {t, det > 0.0};
+  }
+  return true;
+}
+
+int TriangleBvh::segment_hits(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                              std::span<SegmentHit> hits) const {
+  if (nodes_.empty()) return 0;
+  const Eigen::Vector3d d = to - from;
+  const Eigen::Vector3d inverse = d.cwiseInverse();
+  int found = 0;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int index = stack[--top];
+    const Node& node = nodes_[index];
+    if (!segment_meets_box(from, d, inverse, node.lower, node.upper, kHitMargin)) continue;
+    if (node.count > 0) {
+      if (!triangle_hits(node, from, d, hits, found)) return -1;
+    } else {
+      stack[top++] = node.first;
+      stack[top++] = index + 1;
+    }
+  }
+  return found;
+}
+
+void TriangleBvh::leaves_near(const Eigen::Vector3d& p, double radius, LeavesNear& near) const {
+  near.point = p;
+  near.count = 0;
+  if (nodes_.empty()) return;
+  const double reach_squared = radius * radius * kReachMargin;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int index = stack[--top];
+    const Node& node = nodes_[index];
+    const double distance_squared = box_distance_squared(p, node.lower, node.upper);
+    if (distance_squared > reach_squared) continue;
+    if (node.count == 0) {
+      stack[top++] = node.first;
+      stack[top++] = index + 1;
+      continue;
+    }
+    if (near.count == LeavesNear::kCapacity) {
+      near.count = -1;
+      return;
+    }
+    const auto at = static_cast<std::size_t>(near.count++);
+    const double widen = kHitMargin * (node.upper - node.lower).maxCoeff();
+    near.node[at] = index;
+    near.distance_squared[at] = distance_squared;
+    for (std::size_t a = 0; a < 3; ++a) {
+      near.lower[a][at] = node.lower[static_cast<Eigen::Index>(a)] - p[static_cast<Eigen::Index>(a)] - widen;
+      near.upper[a][at] = node.upper[static_cast<Eigen::Index>(a)] - p[static_cast<Eigen::Index>(a)] + widen;
+    }
+  }
+}
+
+int TriangleBvh::segment_hits(const LeavesNear& near, const Eigen::Vector3d& to, std::span<SegmentHit> hits) const {
+  const Eigen::Vector3d d = to - near.point;
+  // The slabs of a direction component that is zero would give 0 * inf = NaN where the segment
+  // lies in a face's plane; the widened boxes make a tiny stand-in for it exact: the point is then
+  // strictly inside the slab (no bound) or strictly outside (none of its triangles can be met).
+  std::array<double, 3> inverse{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double component = d[static_cast<Eigen::Index>(a)];
+    inverse[a] = 1.0 / (component != 0.0 ? component : 1e-300);
+  }
+  const double reach_squared = d.squaredNorm() * kReachMargin;
+  // The slab test of every leaf, without branches (vectorised), then the triangles of those met.
+  std::array<unsigned char, LeavesNear::kCapacity> met{};
+  for (int i = 0; i < near.count; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    double enter = -kHitMargin, leave = 1.0 + kHitMargin;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double t0 = near.lower[a][k] * inverse[a], t1 = near.upper[a][k] * inverse[a];
+      enter = std::max(enter, std::min(t0, t1));
+      leave = std::min(leave, std::max(t0, t1));
+    }
+    met[k] = static_cast<unsigned char>((enter <= leave + kHitMargin) & (near.distance_squared[k] <= reach_squared));
+  }
+  int found = 0;
+  for (int i = 0; i < near.count; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (met[k] && !triangle_hits(nodes_[static_cast<std::size_t>(near.node[k])], near.point, d, hits, found)) return -1;
+  }
+  return found;
 }
 
 }  // namespace settle::body

@@ -42,6 +42,7 @@ struct BoxFrame {
   double dx_si;
   const CellBox& box;
   const LatticePose& pose;
+  const body::DistanceTable* inside_table = nullptr;
   Eigen::Matrix3d to_body = pose.body_to_inertial.transpose();
   // Cells farther from the centre than the bounding radius are outside without asking.
   double reach = shape.bounding_radius() / dx_si;
@@ -57,51 +58,88 @@ struct BoxFrame {
   }
 };
 
-// 1 for the box's cells whose centres lie inside the body. The shape's queries are const and
-// thread-safe (body/shape.hpp).
+// Whether a cell's centre lies inside the body. With a table: the table's side where it settles it,
+// else the shape's own test seen from a face neighbour that the table settles (Shape::contains_from:
+// a mesh counts the crossings between them), else the shape's own test. The shape's queries are
+// const and thread-safe (body/shape.hpp).
+bool cell_inside(const BoxFrame& f, int i, int j, int k) {
+  const Eigen::Vector3d x = f.cell_point(i, j, k);
+  if ((x - f.pose.centre).norm() > f.reach) return false;
+  const Eigen::Vector3d p = f.body_point(x);
+  if (!f.inside_table) return f.shape.contains(p);
+  const int side = f.inside_table->certain_side(p);
+  if (side != 0) return side < 0;
+  constexpr std::array<std::array<int, 3>, 6> kFaces{
+      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
+  for (const auto& c : kFaces) {
+    const Eigen::Vector3d reference = f.body_point(x + Eigen::Vector3d(c[0], c[1], c[2]));
+    const int reference_side = f.inside_table->certain_side(reference);
+    if (reference_side != 0) return f.shape.contains_from(p, reference, reference_side < 0);
+  }
+  return f.shape.contains(p);
+}
+
+// 1 for the box's cells whose centres lie inside the body.
 std::vector<unsigned char> inside_cells(const BoxFrame& f) {
   std::vector<unsigned char> inside(f.box.cell_count(), 0);
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < f.box.extent[2]; ++k)
     for (int j = 0; j < f.box.extent[1]; ++j)
-      for (int i = 0; i < f.box.extent[0]; ++i) {
-        const Eigen::Vector3d x = f.cell_point(i, j, k);
-        if ((x - f.pose.centre).norm() <= f.reach && f.shape.contains(f.body_point(x))) inside[f.at(i, j, k)] = 1;
-      }
+      for (int i = 0; i < f.box.extent[0]; ++i)
+        if (cell_inside(f, i, j, k)) inside[f.at(i, j, k)] = 1;
   return inside;
 }
 
-// The links from the fluid cells of plane k into the body, with their crossings.
+// The links from the fluid cells of plane k into the body, with their crossings (all of a cell's
+// links in one query: a mesh then walks its tree once per cell).
 void plane_links(const BoxFrame& f, const std::vector<unsigned char>& inside,
-                 std::span<const std::array<int, 3>> velocities, int k, BodyWalls& plane) {
+                 std::span<const std::array<int, 3>> velocities, int k, BodyWalls& result) {
   const CellBox& box = f.box;
+  // Filled here and moved out at the end: the planes' vectors lie side by side, and growing them in
+  // place from two threads would share their cache lines.
+  BodyWalls plane;
+  std::vector<std::size_t> directions;
+  std::vector<Eigen::Vector3d> ends;
+  std::vector<double> fractions;
   for (int j = 0; j < box.extent[1]; ++j)
     for (int i = 0; i < box.extent[0]; ++i) {
       const Eigen::Vector3d x = f.cell_point(i, j, k);
       if (inside[f.at(i, j, k)] || (x - f.pose.centre).norm() > f.reach + 2.0) continue;
+      directions.clear();
+      ends.clear();
       for (std::size_t dir = 1; dir < velocities.size(); ++dir) {
         const auto& c = velocities[dir];
         const int ni = i + c[0], nj = j + c[1], nk = k + c[2];
         if (ni < 0 || nj < 0 || nk < 0 || ni >= box.extent[0] || nj >= box.extent[1] || nk >= box.extent[2]) continue;
         if (!inside[f.at(ni, nj, nk)]) continue;
+        directions.push_back(dir);
+        ends.push_back(f.body_point(x + Eigen::Vector3d(c[0], c[1], c[2])));
+      }
+      if (directions.empty()) continue;
+      fractions.resize(directions.size());
+      f.shape.surface_crossings(f.body_point(x), ends, fractions);
+      for (std::size_t n = 0; n < directions.size(); ++n) {
+        const auto& c = velocities[directions[n]];
         const Eigen::Vector3d d(c[0], c[1], c[2]);
         // The lattice takes q in (0, 1]: a link whose fluid end lies on the surface (round-off) gets 1e-6.
-        const double q = std::clamp(f.shape.surface_crossing(f.body_point(x), f.body_point(x + d)), 1e-6, 1.0);
+        const double q = std::clamp(fractions[n], 1e-6, 1.0);
         const Eigen::Vector3d wall = x + q * d;
         plane.obstacle.links.push_back({{box.origin[0] + i, box.origin[1] + j, box.origin[2] + k},
-                                        static_cast<int>(dir),
+                                        static_cast<int>(directions[n]),
                                         q,
                                         f.pose.velocity_at(wall)});
         plane.crossing.push_back(wall);
       }
     }
+  result = std::move(plane);
 }
 
 }  // namespace
 
 BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
-                     std::span<const std::array<int, 3>> velocities, lbm::WallRule rule) {
-  const BoxFrame frame{shape, dx_si, box, pose};
+                     std::span<const std::array<int, 3>> velocities, lbm::WallRule rule,
+                     const body::DistanceTable* inside_table) {
+  const BoxFrame frame{shape, dx_si, box, pose, inside_table};
   const std::vector<unsigned char> inside = inside_cells(frame);
   BodyWalls walls;
   walls.obstacle.rule = rule;
@@ -123,9 +161,22 @@ BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box,
   return walls;
 }
 
+std::shared_ptr<const body::DistanceTable> inside_table_for(std::shared_ptr<const body::Shape> shape, double dx_si) {
+  if (shape->contains_is_closed_form()) return nullptr;
+  // A quarter cell, as the immersed boundary's table: the cells it leaves to the shape lie within
+  // sqrt(3) / 8 of a cell of the surface. A band of one cell is more than the 2 sqrt(3) spacings
+  // certain_side needs; beyond the body's box (and a margin of two nodes) every point is outside.
+  const double spacing = 0.25 * dx_si;
+  return std::make_shared<const body::DistanceTable>(std::move(shape), spacing, 2.0 * spacing, dx_si);
+}
+
 MomentumExchangeCoupling::MomentumExchangeCoupling(std::shared_ptr<const body::Shape> shape, double dx_si,
                                                    const CouplingOptions& options, parallel::Communicator& communicator)
-    : shape_(std::move(shape)), dx_si_(dx_si), options_(options), communicator_(communicator) {}
+    : shape_(std::move(shape)),
+      dx_si_(dx_si),
+      inside_table_(inside_table_for(shape_, dx_si_)),
+      options_(options),
+      communicator_(communicator) {}
 
 CellBox momentum_exchange_box(const body::Shape& shape, double dx_si, const Eigen::Vector3d& centre,
                               const Eigen::Matrix3d& body_to_inertial) {
@@ -157,7 +208,7 @@ void MomentumExchangeCoupling::place(const lbm::Solver& fluid, const LatticePose
   pose_ = pose;
   placed_since_impose_ = true;
   BodyWalls whole = body_walls(*shape_, dx_si_, box_at(pose.centre, pose.body_to_inertial), pose,
-                               lbm::velocity_set(fluid.config().lattice), options_.wall_rule);
+                               lbm::velocity_set(fluid.config().lattice), options_.wall_rule, inside_table_.get());
   const LatticeView view(fluid);
   whole_link_count_ = whole.obstacle.links.size();
   std::vector<std::pair<std::size_t, std::array<int, 3>>> solids;

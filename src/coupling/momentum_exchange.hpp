@@ -2,8 +2,10 @@
 // The sharp-interface coupling behind BodyCoupling (coupling/body_coupling.hpp), lattice units.
 //
 // At each step's pose the cells whose centres lie inside the body are solid; every link from a
-// fluid cell x along c_i to a solid cell crosses the surface at x + q c_i, q in (0, 1], found on
-// the link from the shape's signed distance (any shape, STL meshes included). The fluid closes
+// fluid cell x along c_i to a solid cell crosses the surface at x + q c_i, q in (0, 1], found by
+// the shape (Shape::surface_crossings: a closed form, Newton's method on a superellipsoid's gauge,
+// a mesh's triangles, else a root search on the signed distance; docs/coupling.md, "Finding the
+// walls"). A mesh's inside test is first asked of a body-frame table of its distance. The fluid closes
 // those links by interpolated bounce-back with the wall's rigid-body velocity at the crossing
 // (Bouzidi, Firdaouss and Lallemand 2001, doi:10.1063/1.1399290; lbm::WallRule), and the force
 // and torque on the body are the momentum the links exchange, in the Galilean-invariant form of
@@ -58,6 +60,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "body/distance_table.hpp"
 #include "coupling/body_coupling.hpp"
 #include "parallel/communicator.hpp"
 
@@ -71,8 +74,16 @@ struct BodyWalls {
 
 /// Solid cells and links of the body inside `box` (which must hold every solid cell and one
 /// layer of cells around them), for the lattice's velocities, with the wall velocities of `pose`.
+/// With `inside_table` (a table of the shape's signed distance, inside_table_for), the cells it
+/// settles skip the shape's inside test: the walls are the same, found faster where that test is
+/// a tree walk (a mesh).
 BodyWalls body_walls(const body::Shape& shape, double dx_si, const CellBox& box, const LatticePose& pose,
-                     std::span<const std::array<int, 3>> velocities, lbm::WallRule rule);
+                     std::span<const std::array<int, 3>> velocities, lbm::WallRule rule,
+                     const body::DistanceTable* inside_table = nullptr);
+
+/// The table body_walls takes for a shape whose inside test is not a closed form
+/// (Shape::contains_is_closed_form), at a quarter of the cell size dx_si; null for the others.
+std::shared_ptr<const body::DistanceTable> inside_table_for(std::shared_ptr<const body::Shape> shape, double dx_si);
 
 /// The cells the momentum exchange works on for a body at `centre` (lattice units) with this
 /// attitude: every cell whose centre can lie inside the body and one layer around them
@@ -119,6 +130,7 @@ class MomentumExchangeCoupling final : public BodyCoupling {
 
   std::shared_ptr<const body::Shape> shape_;
   double dx_si_;
+  std::shared_ptr<const body::DistanceTable> inside_table_;
   CouplingOptions options_;
   parallel::Communicator& communicator_;
   LatticePose pose_;

@@ -70,6 +70,29 @@ TEST(Superellipsoid, UnitExponentsGiveTheEllipsoid) {
   EXPECT_LT(relative(s.mean_projected_area_perpendicular(n), e.mean_projected_area_perpendicular(n)), 1e-4);
 }
 
+// With unit exponents the crossing is the ellipsoid's closed form (a quadratic's root): to 1e-13 of
+// the link over the cosine of its angle to the normal, the round-off of the Newton steps' powers.
+TEST(Superellipsoid, UnitExponentsCrossLinksWhereTheEllipsoidDoes) {
+  const Eigen::Vector3d axes(10.0, 6.0, 4.0);
+  const Superellipsoid s(axes, 1.0, 1.0);
+  const Ellipsoid e(axes);
+  std::mt19937_64 rng(28);
+  std::uniform_real_distribution<double> fraction(0.02, 0.98);
+  int tested = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Eigen::Vector3d x = axes.cwiseProduct(testing::random_unit(rng));
+    const Eigen::Vector3d link = testing::random_unit(rng) * (1.0 + (std::sqrt(2.0) - 1.0) * fraction(rng));
+    const Eigen::Vector3d outside = x - fraction(rng) * link, inside = outside + link;
+    if (e.contains(outside) || !e.contains(inside)) continue;
+    const double t = e.surface_crossing(outside, inside);
+    const double cosine = std::abs(link.normalized().dot(e.outward_normal(outside + t * link)));
+    if (cosine < 1e-2) continue;  // nearly tangent: an error e in N moves the root by e / cos
+    ++tested;
+    EXPECT_NEAR(s.surface_crossing(outside, inside), t, 1e-13 / cosine);
+  }
+  EXPECT_GT(tested, 50);
+}
+
 TEST(Superellipsoid, ExponentTwoGivesTheOctahedron) {
   // |x/a| + |y/b| + |z/c| <= 1: V = 4/3 abc, area = 4 sqrt(a^2 b^2 + b^2 c^2 + c^2 a^2), and
   // int x^2 dV = 8 a^3 b c int_simplex X^2 = 2/15 a^3 b c.
@@ -201,6 +224,51 @@ TEST_P(SuperellipsoidExponents, NormalIsTheGaugeGradient) {
       EXPECT_GT(n.dot(g.normalized()), 1.0 - 1e-6) << x.transpose();
     }
   }
+}
+
+// The root of N(outside + t (inside - outside)) = 1 by bisection to the last bit: the reference
+// for surface_crossing, independent of its Newton steps.
+double bisected_crossing(const Superellipsoid& s, const Eigen::Vector3d& outside, const Eigen::Vector3d& inside) {
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid == lo || mid == hi) break;
+    (s.contains(outside + mid * (inside - outside)) ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Lattice links (12 cells per d_eq, 1 to sqrt(2) cells long, as D3Q19's) from just outside to
+// just inside, some nearly tangent: the Newton crossing is the bisected root to 1e-12 of the link
+// where the link meets the surface at more than half a degree (nearer tangent the root itself is
+// ill-conditioned: an error e in N moves it by e / cos); the base class's root finder, which the
+// momentum exchange used before, agrees to its own tolerance, 1e-9 / cos.
+TEST_P(SuperellipsoidExponents, SurfaceCrossingIsTheRootOfTheGauge) {
+  const auto& param = GetParam();
+  const Superellipsoid s(Eigen::Vector3d(1.0, 0.8, 0.6), param.e1, param.e2);
+  const double cell = s.equivalent_diameter() / 12.0;
+  std::mt19937_64 rng(26);
+  std::uniform_real_distribution<double> fraction(0.02, 0.98);
+  int tested = 0;
+  double worst = 0.0;
+  for (const auto& x : surface_samples(s, 600, 27)) {
+    const Eigen::Vector3d link = cell * (1.0 + (std::sqrt(2.0) - 1.0) * fraction(rng)) * testing::random_unit(rng);
+    const Eigen::Vector3d outside = x - fraction(rng) * link, inside = outside + link;
+    if (s.contains(outside) || !s.contains(inside)) continue;
+    const double t = s.surface_crossing(outside, inside);
+    const Eigen::Vector3d wall = outside + t * link;
+    const double cosine = std::abs(link.normalized().dot(s.outward_normal(wall)));
+    if (cosine < 1e-2) continue;
+    ++tested;
+    worst = std::max(worst, std::abs(t - bisected_crossing(s, outside, inside)) * cosine);
+    EXPECT_NEAR(t, bisected_crossing(s, outside, inside), 1e-12 / cosine) << x.transpose();
+    EXPECT_NEAR(t, s.Shape::surface_crossing(outside, inside), 1e-9 / cosine + 1e-12) << x.transpose();
+  }
+  std::printf("%s: %d links, |t - bisected| cos <= %.1e\n", param.name, tested, worst);
+  EXPECT_GT(tested, 150);
+  // The contract's ends: 0 from an inside point, 1 to an outside one.
+  EXPECT_EQ(s.surface_crossing(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.5, 0.0, 0.0)), 0.0);
+  EXPECT_EQ(s.surface_crossing(Eigen::Vector3d(3.0, 0.0, 0.0), Eigen::Vector3d(2.0, 0.0, 0.0)), 1.0);
 }
 
 TEST_P(SuperellipsoidExponents, MarkersMeetRequirements) {
