@@ -7,10 +7,12 @@
 # (tests/heavy_tests.cmake: long numerical runs, still run by the release preset of
 # scripts/run_tests.sh). A sanitizer report fails the test that triggered it (halt_on_error,
 # abort_on_error in the preset).
+#
+#   scripts/run_sanitizer_tests.sh [CMAKE_ARGS...]   (given to the configure step, e.g. -DSETTLE_WERROR=ON)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/install-deps.sh --clang
-cmake --preset debug >/dev/null
+cmake --preset debug "$@" >/dev/null
 cmake --build --preset debug
 
 # The code under test must carry the instrumentation (a flag lost from a module's target would

@@ -8,6 +8,7 @@
 #               and case tests but the `heavy` ones (scripts/run_sanitizer_tests.sh)
 #   fuzz        link the libFuzzer targets of that build and fuzz the case parser and the STL
 #               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
+# Both builds make compiler warnings errors (SETTLE_WERROR=ON; off by default for users).
 # On the 2-core development machine, 2026-11-27 to 29, from a clean clone: about 4-9, 7-13 and 1 minutes (680-1160 s in all, idle)
 # (docs/notes.md, "The test command's time").
 # SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
@@ -29,11 +30,11 @@ for stage in $stages; do
     release)
       bash scripts/install-deps.sh
       bash scripts/check_format.sh
-      cmake --preset release >/dev/null
+      cmake --preset release -DSETTLE_WERROR=ON >/dev/null
       cmake --build --preset release
       ctest --preset release
       ;;
-    sanitizers) bash scripts/run_sanitizer_tests.sh ;;
+    sanitizers) bash scripts/run_sanitizer_tests.sh -DSETTLE_WERROR=ON ;;
     fuzz) bash scripts/fuzz.sh 20 ;;
   esac
 done

@@ -415,7 +415,8 @@ void lateral_motion(const WindowSeries& w, const VerticalFrame& frame, double ob
     outer.push_back(du * du.transpose());
   }
   const Eigen::Matrix2d covariance = time_mean(w.t, outer);
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(covariance);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver;
+  solver.computeDirect(covariance, Eigen::EigenvaluesOnly);  // the 2 x 2 closed form (src/CMakeLists.txt)
   a.lateral_amplitude_si = std::sqrt(2.0 * std::max(0.0, solver.eigenvalues()[1]));
   a.lateral_minor_amplitude_si = std::sqrt(2.0 * std::max(0.0, solver.eigenvalues()[0]));
 

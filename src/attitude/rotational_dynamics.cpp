@@ -28,7 +28,9 @@ BodyInertia::BodyInertia(const Eigen::Matrix3d& tensor_b) : tensor_(tensor_b) {
   if (cholesky.info() != Eigen::Success) {
     throw std::invalid_argument("inertia tensor must be positive definite");
   }
-  inverse_ = cholesky.solve(Eigen::Matrix3d::Identity());
+  // Column by column: a matrix right-hand side takes Eigen's blocked triangular solve, whose
+  // AVX-512 code GCC 12 reports as reading uninitialised vectors (a false positive, GCC bug 105593).
+  for (int axis = 0; axis < 3; ++axis) inverse_.col(axis) = cholesky.solve(Eigen::Vector3d::Unit(axis));
 }
 
 Eigen::Vector3d angular_acceleration_b(const BodyInertia& inertia, const Eigen::Vector3d& omega_b,

@@ -63,7 +63,10 @@ std::string csv_cell(const json& v) {
   if (v.is_number_float()) return fmt::format("{}", v.get<double>());
   if (v.is_array()) {
     std::string s;
-    for (const auto& e : v) s += (s.empty() ? "" : " ") + csv_cell(e);
+    for (const auto& e : v) {
+      if (!s.empty()) s += ' ';
+      s += csv_cell(e);
+    }
     return s;
   }
   return v.dump();
@@ -263,10 +266,18 @@ std::string table_csv(const StudyTable& table) {
     if (!is_input(table, f.column)) columns.emplace_back(f.column);
   columns.emplace_back(kHolzerSommerfeldColumn);
   columns.emplace_back("wall_seconds");
-  for (std::size_t i = 0; i < columns.size(); ++i) out += (i ? "," : "") + columns[i];
+  // Separator and cell appended apart: GCC 12 took `"," + std::string` (a prepend into a
+  // temporary) for a copy of up to 2^63 bytes (-Wstringop-overflow).
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) out += ',';
+    out += columns[i];
+  }
   out += "\n";
   for (const json& row : table.rows) {
-    for (std::size_t i = 0; i < columns.size(); ++i) out += (i ? "," : "") + csv_cell(row[columns[i]]);
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      if (i > 0) out += ',';
+      out += csv_cell(row[columns[i]]);
+    }
     out += "\n";
   }
   return out;

@@ -117,10 +117,12 @@ std::vector<double> row_times(const fs::path& csv) {
   return times;
 }
 
-/// Polls (every 2 ms, at most 30 s) until `ready` holds or the process ended; true if it holds.
+/// Polls (every 2 ms, at most 300 s) until `ready` holds or the process ended; true if it holds.
+/// The bound only stops a hung run: the instrumented build on a loaded 2-core machine took more
+/// than 30 s to reach the first checkpoint; a run that ends returns at once.
 template <class Condition>
 bool wait_until(Background& process, Condition ready) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
   while (std::chrono::steady_clock::now() < deadline) {
     if (ready()) return true;
     if (!process.running()) return false;
@@ -200,7 +202,7 @@ TEST_F(RestartCli, KilledRunContinuesToTheUninterruptedResult) {
   });
   run.signal(SIGKILL);
   const int status = run.wait();
-  ASSERT_TRUE(ready) << "the run ended before its first checkpoint";
+  ASSERT_TRUE(ready) << "the run ended, or took 300 s, before its first checkpoint";
   ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
   EXPECT_FALSE(fs::exists(dir / "summary.json"));
   const std::vector<double> times_at_kill = row_times(dir / "timeseries.csv");

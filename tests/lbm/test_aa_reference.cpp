@@ -533,7 +533,7 @@ Agreement compare_with(const SolverConfig& cfg, int steps, unsigned seed, const 
   auto solver = make_solver(cfg);
   Reference ref(cfg, lat);
   if (obstacle) {
-    Obstacle o{obstacle->solid, obstacle->links, obstacle->rule, {}};
+    Obstacle o{.solid_cells = obstacle->solid, .links = obstacle->links, .rule = obstacle->rule, .far_solid_cells = {}};
     for (WallLink& link : o.links) link.dir = lat.solver_index[static_cast<std::size_t>(link.dir)];
     solver->set_obstacle(o);
     ref.set_obstacle(obstacle->solid, obstacle->links, obstacle->rule);
