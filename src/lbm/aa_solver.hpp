@@ -1,26 +1,21 @@
 #pragma once
-// The in-place AA-pattern solver (Bailey, Myre, Walsh, Lilja & Saar 2009,
-// doi:10.1109/ICPP.2009.37), templated over lattice, collision and storage type so that the
-// hot loop sees compile-time constants. See docs/lbm.md for the scheme; in short, with
-// A[q][x] the stored value of direction q at padded cell x and g = f - w (collision.hpp):
-//  - even step: g_i(x) = A[i][x]; collide; A[opp(i)][x] = g*_i(x). No neighbour access.
-//  - odd step: g_i(x) = A[opp(i)][x - c_i]; collide; A[i][x + c_i] = g*_i(x).
-// After an odd step A[i][x] = g_i(x) again (the natural layout). Boundaries are handled by
-// the two copy lists of lbm/grid.hpp between steps, so the interior kernel has no branch.
-#include <omp.h>
-
+// The fluid solver of one block: the composition of the parts of lbm/ (docs/lbm.md, "Files"),
+// templated over lattice, collision and storage type. The kernel and the relaxation rates are in
+// lbm/aa_kernel.hpp, the population array and its parity in lbm/aa_populations.hpp, the per-cell
+// force in lbm/force_field.hpp, where cells lie in lbm/block_geometry.hpp.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <limits>
-#include <memory>
-#include <new>
 #include <stdexcept>
 #include <string>
 
+#include "lbm/aa_kernel.hpp"
+#include "lbm/aa_populations.hpp"
+#include "lbm/block_geometry.hpp"
 #include "lbm/collision.hpp"
+#include "lbm/force_field.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
@@ -31,59 +26,28 @@ namespace settle::lbm {
 /// costs a few microseconds, a link about 0.1 us (docs/performance.md, "Small grids").
 inline constexpr std::ptrdiff_t kLinksWorthThreads = 128;
 
-/// A page-aligned, uninitialised array of trivially copyable T.
-template <class T>
-class AlignedArray {
- public:
-  AlignedArray() = default;
-  explicit AlignedArray(std::size_t count) : size_(count) {
-    const std::size_t bytes = (count * sizeof(T) + 4095) / 4096 * 4096;
-    data_.reset(static_cast<T*>(std::aligned_alloc(4096, std::max<std::size_t>(bytes, 4096))));
-    if (!data_) throw std::bad_alloc();
-  }
-  T* data() { return data_.get(); }
-  const T* data() const { return data_.get(); }
-  std::size_t size() const { return size_; }
-  T& operator[](std::size_t i) { return data_[i]; }
-  const T& operator[](std::size_t i) const { return data_[i]; }
-
- private:
-  struct Free {
-    void operator()(T* p) const { std::free(p); }
-  };
-  std::unique_ptr<T[], Free> data_;
-  std::size_t size_ = 0;
-};
-
 template <Lattice L, class Collision, class Real>
 class AaSolver final : public Solver {
  public:
   static constexpr int Q = L::Q;
-  /// Arithmetic type of the collision: float storage is computed in float. The stored
-  /// values are f - w (collision.hpp), so float arithmetic keeps the same ~7 significant
-  /// digits of the deviations that float storage keeps, at half the vector work (the float
-  /// kernel is otherwise compute-bound on AVX-512; see docs/lbm.md).
-  using Arith = Real;
 
   explicit AaSolver(const SolverConfig& config)
       : config_(config),
-        layout_(make_layout(config.nx, config.ny, config.nz, sizeof(Real), Q)),
-        populations_(layout_.pop_stride * Q),
-        forced_flag_(cell_count(), 0),
+        geometry_(config, sizeof(Real), Q),
+        threaded_(geometry_.threaded()),
+        populations_(geometry_),
+        forces_(geometry_.cell_count(), threaded_),
+        kernel_(config, threaded_),
         inflow_velocity_(config.inflow_velocity) {
-    BlockLists block = build_block_lists<L>(layout_, face_kinds(config),
-                                            config.split.value_or(unsplit({config.nx, config.ny, config.nz})));
+    BlockLists block = build_block_lists<L>(layout(), geometry_.face_kinds(), geometry_.split());
     lists_ = std::move(block.local);
     halo_ = std::move(block.halo);
     split_rows();
-    for (auto& component : force_) component = AlignedArray<Real>(cell_count());
-    rates_ = config.collision == CollisionKind::trt ? trt_rates(config.tau, config.magic)
-                                                    : RelaxationRates{1.0 / config.tau, 1.0 / config.tau};
-    zero_fill();
+    populations_.zero_fill();
   }
 
   const SolverConfig& config() const override { return config_; }
-  std::int64_t step_count() const override { return steps_; }
+  std::int64_t step_count() const override { return populations_.step_count(); }
   int velocity_count() const override { return Q; }
 
   void step() override {
@@ -107,20 +71,20 @@ class AaSolver final : public Solver {
 
   void begin_step_faces(HaloMessages& messages) override {
     if (odd_parity()) {
-      run_kernel_rows<true>(face_rows_);
+      kernel_.template run_rows<true>(populations_, forces_, face_rows_);
     } else {
-      run_kernel_rows<false>(face_rows_);
+      kernel_.template run_rows<false>(populations_, forces_, face_rows_);
     }
     pack_messages(messages);
   }
 
   void step_interior() override {
     if (odd_parity()) {
-      run_kernel_rows<true>(interior_rows_);
-      apply<true>(lists_.fold, lists_.fold_shifted);
+      kernel_.template run_rows<true>(populations_, forces_, interior_rows_);
+      populations_.template apply<true>(lists_.fold, lists_.fold_shifted, inflow_velocity_);
     } else {
-      run_kernel_rows<false>(interior_rows_);
-      apply<false>(lists_.fill, lists_.fill_shifted);
+      kernel_.template run_rows<false>(populations_, forces_, interior_rows_);
+      populations_.template apply<false>(lists_.fill, lists_.fill_shifted, inflow_velocity_);
     }
   }
 
@@ -142,7 +106,7 @@ class AaSolver final : public Solver {
       const std::vector<double>& asked = far_.asked[k];
       for (std::size_t n = 0; n < asked.size(); n += 4) {
         const auto at = [&](std::size_t m) { return static_cast<int>(asked[n + m]); };
-        const std::size_t cell = layout_.index(at(0), at(1), at(2));
+        const std::size_t cell = layout().index(at(0), at(1), at(2));
         messages.send[k].push_back(odd_parity() ? post_collision<true>(at(3), cell)
                                                 : post_collision<false>(at(3), cell));
       }
@@ -157,7 +121,7 @@ class AaSolver final : public Solver {
   }
 
   void initialise(const InitialField& field) override {
-    steps_ = 0;
+    populations_.set_step_count(0);
     const int nx = config_.nx, ny = config_.ny, nz = config_.nz;
 #pragma omp parallel for collapse(2) schedule(static) if (threaded_)
     for (int z = 0; z < nz; ++z) {
@@ -169,7 +133,7 @@ class AaSolver final : public Solver {
           const double rho = state.density;
           const double u[3] = {state.velocity.x() - 0.5 * F[0] / rho, state.velocity.y() - 0.5 * F[1] / rho,
                                state.velocity.z() - 0.5 * F[2] / rho};
-          const std::size_t cell = layout_.index(x, y, z);
+          const std::size_t cell = layout().index(x, y, z);
           for (int i = 0; i < Q; ++i) {
             populations_[slot(i, cell)] =
                 static_cast<Real>(shifted_equilibrium<L>(i, rho - 1.0, rho, u[0], u[1], u[2]));
@@ -201,7 +165,7 @@ class AaSolver final : public Solver {
     const int ny = config_.ny, nz = config_.nz;
 #pragma omp parallel for collapse(2) reduction(+ : shifted_sum) schedule(static) if (threaded_)
     for (int z = 0; z < nz; ++z) {
-      for (int y = 0; y < ny; ++y) shifted_sum += row_sum(y, z);
+      for (int y = 0; y < ny; ++y) shifted_sum += populations_.row_sum(y, z);
     }
     return static_cast<double>(cell_count()) + shifted_sum;
   }
@@ -253,7 +217,7 @@ class AaSolver final : public Solver {
       throw std::invalid_argument("set_cell_populations: span holds fewer than Q values");
     }
     const auto c = resolve(x, y, z);
-    const std::size_t cell = layout_.index(c[0], c[1], c[2]);
+    const std::size_t cell = layout().index(c[0], c[1], c[2]);
     for (int i = 0; i < Q; ++i) {
       // The slot gather_shifted reads f_i from at this parity (see there).
       const std::size_t source = odd_parity() ? slot(opposite(i), upstream_of(cell, i)) : slot(i, cell);
@@ -339,26 +303,14 @@ class AaSolver final : public Solver {
   }
 
   void add_force(int x, int y, int z, const Eigen::Vector3d& force) override {
-    const std::size_t n = mark_forced(x, y, z);
-    for (int a = 0; a < 3; ++a) force_[a][n] = static_cast<Real>(force_[a][n] + force[a]);
+    forces_.add(resolved_index(x, y, z), force);
   }
   void set_force(int x, int y, int z, const Eigen::Vector3d& force) override {
-    const std::size_t n = mark_forced(x, y, z);
-    for (int a = 0; a < 3; ++a) force_[a][n] = static_cast<Real>(force[a]);
+    forces_.set(resolved_index(x, y, z), force);
   }
-  Eigen::Vector3d force(int x, int y, int z) const override {
-    const auto c = resolve(x, y, z);
-    const std::size_t n = linear_index(c[0], c[1], c[2]);
-    return {static_cast<double>(force_[0][n]), static_cast<double>(force_[1][n]), static_cast<double>(force_[2][n])};
-  }
-  void clear_forces() override {
-    for (const std::size_t n : forced_cells_) {
-      for (auto& component : force_) component[n] = Real(0);
-      forced_flag_[n] = 0;
-    }
-    forced_cells_.clear();
-  }
-  std::size_t forced_cell_count() const override { return forced_cells_.size(); }
+  Eigen::Vector3d force(int x, int y, int z) const override { return forces_.at(resolved_index(x, y, z)); }
+  void clear_forces() override { forces_.clear(); }
+  std::size_t forced_cell_count() const override { return forces_.cells().size(); }
 
   void set_obstacle(const Obstacle& obstacle) override;
   void set_inflow_velocity(const Eigen::Vector3d& velocity) override {
@@ -389,13 +341,13 @@ class AaSolver final : public Solver {
   FluidState export_state() const override {
     FluidState state;
     state.layout = state_layout();
-    state.step_count = steps_;
+    state.step_count = populations_.step_count();
     state.populations = std::as_bytes(std::span<const Real>(populations_.data(), populations_.size()));
-    state.forced_cells.reserve(forced_cells_.size());
-    state.forced_values.reserve(3 * forced_cells_.size());
-    for (const std::size_t n : forced_cells_) {
+    state.forced_cells.reserve(forces_.cells().size());
+    state.forced_values.reserve(3 * forces_.cells().size());
+    for (const std::size_t n : forces_.cells()) {
       state.forced_cells.push_back(n);
-      for (const auto& component : force_) state.forced_values.push_back(static_cast<double>(component[n]));
+      for (int a = 0; a < 3; ++a) state.forced_values.push_back(forces_.value(a, n));
     }
     state.solid_cells.assign(solid_cells_.begin(), solid_cells_.end());
     return state;
@@ -404,7 +356,12 @@ class AaSolver final : public Solver {
   void import_state(const FluidState& state) override;
 
  private:
-  bool odd_parity() const { return (steps_ & 1) != 0; }
+  bool odd_parity() const { return populations_.odd_parity(); }
+  const GridLayout& layout() const { return geometry_.layout(); }
+  std::size_t resolved_index(int x, int y, int z) const {
+    const auto c = resolve(x, y, z);
+    return linear_index(c[0], c[1], c[2]);
+  }
 
   // A step is the kernel and the copies of the block's own faces (begin_local), the exchange with
   // adjacent blocks when split, and the rest (end_local). Walls inside the grid close last: after
@@ -413,11 +370,11 @@ class AaSolver final : public Solver {
   // node from a ghost and write its returning population into one (close_wall_links).
   void begin_local() {
     if (odd_parity()) {
-      run_kernel<true>();
-      apply<true>(lists_.fold, lists_.fold_shifted);
+      kernel_.template run<true>(populations_, forces_);
+      populations_.template apply<true>(lists_.fold, lists_.fold_shifted, inflow_velocity_);
     } else {
-      run_kernel<false>();
-      apply<false>(lists_.fill, lists_.fill_shifted);
+      kernel_.template run<false>(populations_, forces_);
+      populations_.template apply<false>(lists_.fill, lists_.fill_shifted, inflow_velocity_);
     }
   }
   void end_local() {
@@ -429,7 +386,7 @@ class AaSolver final : public Solver {
       read_local_far_values<false>();
       close_wall_links<false>();
     }
-    ++steps_;
+    populations_.advance();
   }
 
   /// Writes what the adjacent blocks sent into the slots of their links: the fold after an odd
@@ -503,94 +460,10 @@ class AaSolver final : public Solver {
     const Real* const data = populations_.data();
     message.assign(list.size() + shifted.size(), 0.0);
     for (const CopyEntry& e : list) message[e.dst] = static_cast<double>(data[e.src]);
-    for (const ShiftedCopyEntry& e : shifted) message[e.dst] = static_cast<double>(shifted_value<Odd>(e));
+    for (const ShiftedCopyEntry& e : shifted)
+      message[e.dst] = static_cast<double>(populations_.template shifted_value<Odd>(e, inflow_velocity_));
   }
-  std::size_t slot(int q, std::size_t cell) const { return static_cast<std::size_t>(q) * layout_.pop_stride + cell; }
-
-  void zero_fill() {
-    Real* data = populations_.data();
-    const std::size_t count = populations_.size();
-    // Parallel first touch: pages land near the threads that stream them.
-#pragma omp parallel for schedule(static) if (threaded_)
-    for (std::size_t k = 0; k < count; ++k) data[k] = Real(0);
-    for (auto& component : force_) {
-      Real* f = component.data();
-      const std::size_t n = component.size();
-#pragma omp parallel for schedule(static) if (threaded_)
-      for (std::size_t k = 0; k < n; ++k) f[k] = Real(0);
-    }
-  }
-
-  /// What every row of one kernel sweep shares: the population and force arrays, the lattice's
-  /// offsets and the relaxation rates.
-  struct KernelSweep {
-    Real* base;
-    const Real* force[3];
-    std::ptrdiff_t offsets[Q];
-    std::size_t stride;
-    double body[3];
-    RelaxationRates rates;
-  };
-
-  KernelSweep kernel_sweep() {
-    KernelSweep k{populations_.data(),
-                  {force_[0].data(), force_[1].data(), force_[2].data()},
-                  {},
-                  layout_.pop_stride,
-                  {config_.body_force.x(), config_.body_force.y(), config_.body_force.z()},
-                  rates_};
-    for (int i = 0; i < Q; ++i) k.offsets[i] = layout_.offset(L::set.c[i]);
-    return k;
-  }
-
-  template <bool Odd>
-  void kernel_row(const KernelSweep& k, int y, int z) const {
-    const int nx = config_.nx, ny = config_.ny;
-    const std::size_t row = layout_.index(0, y, z);
-    Real* src[Q];
-    Real* dst[Q];
-    for (int i = 0; i < Q; ++i) {
-      if constexpr (Odd) {
-        src[i] = k.base + static_cast<std::size_t>(opposite(i)) * k.stride + row - k.offsets[i];
-        dst[i] = k.base + static_cast<std::size_t>(i) * k.stride + row + k.offsets[i];
-      } else {
-        src[i] = k.base + static_cast<std::size_t>(i) * k.stride + row;
-        dst[i] = k.base + static_cast<std::size_t>(opposite(i)) * k.stride + row;
-      }
-    }
-    const std::size_t force_row =
-        static_cast<std::size_t>(nx) *
-        (static_cast<std::size_t>(y) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(z));
-    collide_row(src, dst, k.force[0] + force_row, k.force[1] + force_row, k.force[2] + force_row, nx, k.body, k.rates);
-  }
-
-  /// The hot loop: one AA step over all interior cells. Rows of x are contiguous in every
-  /// population array (the odd step's neighbour offsets are constant along a row), so the
-  /// x loop in collide_row is a vectorised loop of unit-stride loads and stores; the lattice
-  /// constants fold at compile time. Vectorisation checked with -fopt-info-vec-optimized
-  /// ("loop vectorized using 64 byte vectors" for every instantiation with SETTLE_NATIVE) and
-  /// zmm instructions in the disassembly, see docs/lbm.md.
-  template <bool Odd>
-  void run_kernel() {
-    const KernelSweep k = kernel_sweep();
-    const int ny = config_.ny, nz = config_.nz;
-#pragma omp parallel for collapse(2) schedule(static) if (threaded_)
-    for (int z = 0; z < nz; ++z) {
-      for (int y = 0; y < ny; ++y) kernel_row<Odd>(k, y, z);
-    }
-  }
-
-  /// The kernel on a list of rows (y + ny z): a block's face rows, then its interior rows, so that
-  /// its messages travel while the interior is updated. Every cell reads and writes only its own
-  /// slots in either parity, so the rows may run in any order with the same result.
-  template <bool Odd>
-  void run_kernel_rows(const std::vector<int>& rows) {
-    const KernelSweep k = kernel_sweep();
-    const int ny = config_.ny, count = static_cast<int>(rows.size());
-#pragma omp parallel for schedule(static) if (threaded_)
-    for (int n = 0; n < count; ++n)
-      kernel_row<Odd>(k, rows[static_cast<std::size_t>(n)] % ny, rows[static_cast<std::size_t>(n)] / ny);
-  }
+  std::size_t slot(int q, std::size_t cell) const { return populations_.slot(q, cell); }
 
   /// The rows whose kernel results an adjacent block receives: those within kFaceRows of a face
   /// the block shares with another block along y or z (a link's source cell is next to the face,
@@ -610,96 +483,11 @@ class AaSolver final : public Solver {
       }
   }
 
-  static void collide_row(Real* const (&src)[Q], Real* const (&dst)[Q], const Real* __restrict fx,
-                          const Real* __restrict fy, const Real* __restrict fz, int n, const double (&body)[3],
-                          const RelaxationRates& rates) {
-    // Local copies of the row pointers: loop-invariant scalars the vectoriser can use as
-    // bases of unit-stride accesses (through the reference it reloads them per element).
-    Real* in[Q];
-    Real* out[Q];
-    for (int i = 0; i < Q; ++i) {
-      in[i] = src[i];
-      out[i] = dst[i];
-    }
-    // Lanes are independent: in either parity, the slots a cell reads are exactly the slots
-    // it writes, and no two cells share a slot, so `ivdep` (no loop-carried dependence) is
-    // true. (`omp simd` made GCC 12 keep the row pointers in memory and give up.)
-    const Arith body_x = static_cast<Arith>(body[0]), body_y = static_cast<Arith>(body[1]),
-                body_z = static_cast<Arith>(body[2]);
-#if !defined(__clang__)  // clang's sanitizer build (-O1) does not vectorise
-#pragma GCC ivdep
-#endif
-    for (int x = 0; x < n; ++x) {
-      Arith g[Q];
-#pragma GCC unroll 32
-      for (int i = 0; i < Q; ++i) g[i] = static_cast<Arith>(in[i][x]);
-      const Arith F[3] = {body_x + static_cast<Arith>(fx[x]), body_y + static_cast<Arith>(fy[x]),
-                          body_z + static_cast<Arith>(fz[x])};
-      Collision::template collide<L, Arith>(g, F, rates);
-#pragma GCC unroll 32
-      for (int i = 0; i < Q; ++i) out[i][x] = static_cast<Real>(g[i]);
-    }
-  }
-
-  /// Applies a copy list after the kernel of the given parity. Inlet and outlet entries take the
-  /// moments of their cell from its post-collision populations: in its own slots after an even
-  /// kernel (f*_j in slot opp j), pushed to its neighbours after an odd one (f*_j in slot j at
-  /// x + c_j). Neither place is a destination of the lists.
-  template <bool Odd>
-  void apply(const std::vector<CopyEntry>& list, const std::vector<ShiftedCopyEntry>& shifted) {
-    Real* const data = populations_.data();
-    const std::size_t count = list.size();
-    const CopyEntry* const entries = list.data();
-#pragma omp parallel for schedule(static) if (threaded_)
-    for (std::size_t k = 0; k < count; ++k) data[entries[k].dst] = data[entries[k].src];
-    for (const ShiftedCopyEntry& e : shifted) data[e.dst] = shifted_value<Odd>(e);
-  }
-
-  /// The value an inlet or outlet entry stores, in storage precision.
-  template <bool Odd>
-  Real shifted_value(const ShiftedCopyEntry& e) const {
-    const Real* const data = populations_.data();
-    double drho = 0.0, j[3] = {0.0, 0.0, 0.0};
-    for (int q = 0; q < Q; ++q) {
-      const double g =
-          static_cast<double>(Odd ? data[slot(q, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.cell) +
-                                                                          layout_.offset(L::set.c[q])))]
-                                  : data[slot(opposite(q), e.cell)]);
-      drho += g;
-      for (int a = 0; a < 3; ++a) j[a] += L::set.c[q][a] * g;
-    }
-    const double rho = 1.0 + drho;
-    if (e.equilibrium_dir >= 0) {
-      return static_cast<Real>(shifted_equilibrium<L>(e.equilibrium_dir, 0.0, 1.0, j[0] / rho, j[1] / rho, j[2] / rho));
-    }
-    const double term = e.wall_term[0] * inflow_velocity_[0] + e.wall_term[1] * inflow_velocity_[1] +
-                        e.wall_term[2] * inflow_velocity_[2];
-    return static_cast<Real>(static_cast<double>(data[e.src]) + rho * term);
-  }
-
-  /// Interior coordinates after wrapping periodic axes; throws for others out of range.
-  std::array<int, 3> resolve(int x, int y, int z) const {
-    std::array<int, 3> c{x, y, z};
-    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-    for (int a = 0; a < 3; ++a) {
-      if (c[a] >= 0 && c[a] < extent[a]) continue;
-      if (config_.boundaries[a] != Boundary::periodic || (config_.split && config_.split->blocks[a] > 1)) {
-        throw std::out_of_range("lbm cell query: coordinate " + std::to_string(c[a]) + " outside [0, " +
-                                std::to_string(extent[a]) + ") on axis " + std::to_string(a));
-      }
-      c[a] = ((c[a] % extent[a]) + extent[a]) % extent[a];
-    }
-    return c;
-  }
+  std::array<int, 3> resolve(int x, int y, int z) const { return geometry_.resolve(x, y, z); }
 
   /// Shifted post-streaming populations g_i(x) of interior cell c at the current parity.
   void gather_shifted(const std::array<int, 3>& c, double* g) const {
-    const std::size_t cell = layout_.index(c[0], c[1], c[2]);
-    if (odd_parity()) {
-      for (int i = 0; i < Q; ++i) g[i] = static_cast<double>(populations_[slot(opposite(i), upstream_of(cell, i))]);
-    } else {
-      for (int i = 0; i < Q; ++i) g[i] = static_cast<double>(populations_[slot(i, cell)]);
-    }
+    populations_.gather(layout().index(c[0], c[1], c[2]), g);
   }
 
   static constexpr int kRowChunk = 64;
@@ -710,7 +498,7 @@ class AaSolver final : public Solver {
   void row_states(const std::array<int, 3>& first, int count, double* density,
                   const std::array<double*, 3>& velocity) const {
     double drho[kRowChunk], jx[kRowChunk], jy[kRowChunk], jz[kRowChunk];
-    const std::size_t row = layout_.index(first[0], first[1], first[2]);
+    const std::size_t row = layout().index(first[0], first[1], first[2]);
     const Real* source[Q];
     for (int i = 0; i < Q; ++i)
       source[i] = populations_.data() + (odd_parity() ? slot(opposite(i), upstream_of(row, i)) : slot(i, row));
@@ -747,9 +535,7 @@ class AaSolver final : public Solver {
   }
 
   /// Padded index of the neighbour x - c_i of padded cell x (a ghost at the faces).
-  std::size_t upstream_of(std::size_t cell, int i) const {
-    return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(cell) - layout_.offset(L::set.c[i]));
-  }
+  std::size_t upstream_of(std::size_t cell, int i) const { return populations_.upstream_of(cell, i); }
 
   std::array<double, 3> cell_force(int x, int y, int z) const {
     const auto c = resolve(x, y, z);
@@ -757,7 +543,7 @@ class AaSolver final : public Solver {
   }
 
   double total_force(int axis, int x, int y, int z) const {
-    return config_.body_force[axis] + static_cast<double>(force_[axis][linear_index(x, y, z)]);
+    return config_.body_force[axis] + forces_.value(axis, linear_index(x, y, z));
   }
 
   /// visit(n, rho, u) for every cell (linear index n), cell_state's values (solid cells: rho 1, u 0).
@@ -786,69 +572,20 @@ class AaSolver final : public Solver {
     }
   }
 
-  double row_sum(int y, int z) const {
-    double sum = 0.0;
-    const std::size_t row = layout_.index(0, y, z);
-    for (int q = 0; q < Q; ++q) {
-      const Real* p = populations_.data() + slot(q, row);
-      for (int x = 0; x < config_.nx; ++x) sum += static_cast<double>(p[x]);
-    }
-    return sum;
-  }
-
-  std::size_t mark_forced(int x, int y, int z) {
-    const auto c = resolve(x, y, z);
-    const std::size_t n = linear_index(c[0], c[1], c[2]);
-    if (!forced_flag_[n]) {
-      forced_flag_[n] = 1;
-      forced_cells_.push_back(n);
-    }
-    return n;
-  }
-
   bool solid_at(int x, int y, int z) const { return !solid_flag_.empty() && solid_flag_[linear_index(x, y, z)] != 0; }
 
-  /// True when the block has an adjacent block beyond its face `side` (0 lower, 1 upper) of axis a,
-  /// through the lattice's periodic wrap too when `through_wrap`.
   bool has_block_beyond(std::size_t a, int side, bool through_wrap) const {
-    if (!config_.split || config_.split->blocks[a] <= 1) return false;
-    const BlockSplit& split = *config_.split;
-    const int k = split.block_coordinates(split.rank)[a] + (side == 0 ? -1 : 1);
-    if (k >= 0 && k < split.blocks[a]) return true;
-    return through_wrap && config_.boundaries[a] == Boundary::periodic;
+    return geometry_.has_block_beyond(a, side, through_wrap);
   }
-  /// The rank of the block beyond face `side` of axis a, not through the wrap.
-  std::optional<int> block_beyond(std::size_t a, int side) const {
-    if (!has_block_beyond(a, side, false)) return std::nullopt;
-    std::array<int, 3> b = config_.split->block_coordinates(config_.split->rank);
-    b[a] += side == 0 ? -1 : 1;
-    return config_.split->rank_of(b);
-  }
+  std::optional<int> block_beyond(std::size_t a, int side) const { return geometry_.block_beyond(a, side); }
   std::size_t halo_index(int rank) const {
     for (std::size_t k = 0; k < halo_.size(); ++k)
       if (halo_[k].rank == rank) return k;
     throw std::logic_error("halo: rank " + std::to_string(rank) + " is not an adjacent block");
   }
 
-  /// Cell (x, y, z) of an obstacle in this block's coordinates: periodic axes of one block wrap;
-  /// -1 and n on a face shared with an adjacent block name a ghost (that block's cell). Empty when
-  /// it lies beyond a face of the lattice that is not periodic.
   std::optional<std::array<int, 3>> obstacle_site(std::array<int, 3> c, bool& ghost) const {
-    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-    ghost = false;
-    for (std::size_t a = 0; a < 3; ++a) {
-      if (c[a] >= 0 && c[a] < extent[a]) continue;
-      const int side = c[a] < 0 ? 0 : 1;
-      if ((c[a] == -1 || c[a] == extent[a]) && has_block_beyond(a, side, true)) {
-        ghost = true;
-        continue;
-      }
-      if (config_.boundaries[a] != Boundary::periodic || (config_.split && config_.split->blocks[a] > 1)) {
-        return std::nullopt;
-      }
-      c[a] = ((c[a] % extent[a]) + extent[a]) % extent[a];
-    }
-    return c;
+    return geometry_.site(c, ghost);
   }
   enum class Site { outside, fluid, solid };
   /// What lies at x + d for interior x, |d| <= 1 per axis: a cell of this block, a ghost, or nothing.
@@ -856,17 +593,13 @@ class AaSolver final : public Solver {
     bool ghost = false;
     const auto c = obstacle_site({x[0] + d[0], x[1] + d[1], x[2] + d[2]}, ghost);
     if (!c) return Site::outside;
-    const bool solid =
-        ghost ? std::binary_search(ghost_solids_.begin(), ghost_solids_.end(), layout_.index((*c)[0], (*c)[1], (*c)[2]))
-              : solid_at((*c)[0], (*c)[1], (*c)[2]);
+    const bool solid = ghost ? std::binary_search(ghost_solids_.begin(), ghost_solids_.end(),
+                                                  layout().index((*c)[0], (*c)[1], (*c)[2]))
+                             : solid_at((*c)[0], (*c)[1], (*c)[2]);
     return solid ? Site::solid : Site::fluid;
   }
   /// Coordinates of padded index p (inverse of GridLayout::index).
-  std::array<int, 3> padded_coordinates(std::size_t p) const {
-    const std::size_t r = p - layout_.x_begin + 1;
-    return {static_cast<int>(r % layout_.sx) - 1, static_cast<int>(r % layout_.sxy / layout_.sx) - 1,
-            static_cast<int>(r / layout_.sxy) - 1};
-  }
+  std::array<int, 3> padded_coordinates(std::size_t p) const { return geometry_.padded_coordinates(p); }
 
   /// A wall link in slot terms. The population coming back from the wall,
   ///   f_back = a f*_i(x) + b f*_i(x - c_i) + c f*_opp(i)(x)
@@ -907,9 +640,7 @@ class AaSolver final : public Solver {
   /// f*_j(y) of interior cell y (padded index) after the kernel of the given parity.
   template <bool Odd>
   double post_collision(int j, std::size_t y) const {
-    return static_cast<double>(populations_[Odd ? slot(j, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(y) +
-                                                                                   layout_.offset(L::set.c[j])))
-                                                : slot(opposite(j), y)]);
+    return populations_.template post_collision<Odd>(j, y);
   }
   template <bool Odd>
   void read_local_far_values() {
@@ -997,10 +728,7 @@ class AaSolver final : public Solver {
     }
   }
 
-  std::size_t padded_of_linear(std::size_t n) const {
-    const std::size_t nx = static_cast<std::size_t>(config_.nx), ny = static_cast<std::size_t>(config_.ny);
-    return layout_.index(static_cast<int>(n % nx), static_cast<int>(n / nx % ny), static_cast<int>(n / (nx * ny)));
-  }
+  std::size_t padded_of_linear(std::size_t n) const { return geometry_.padded_of_linear(n); }
 
   StateLayout state_layout() const {
     return {config_.nx,
@@ -1008,19 +736,19 @@ class AaSolver final : public Solver {
             config_.nz,
             Q,
             static_cast<std::uint32_t>(sizeof(Real)),
-            layout_.x_begin,
-            layout_.sx,
-            layout_.sxy,
-            layout_.pop_stride,
+            layout().x_begin,
+            layout().sx,
+            layout().sxy,
+            layout().pop_stride,
             populations_.size()};
   }
 
   SolverConfig config_;
-  GridLayout layout_;
-  AlignedArray<Real> populations_;
-  std::array<AlignedArray<Real>, 3> force_;
-  std::vector<std::uint8_t> forced_flag_;
-  std::vector<std::size_t> forced_cells_;
+  BlockGeometry geometry_;
+  bool threaded_;
+  AaPopulations<L, Real> populations_;
+  ForceField<Real> forces_;
+  AaKernel<L, Collision, Real> kernel_;
   CopyLists lists_;
   std::vector<HaloLinks> halo_;
   Eigen::Vector3d inflow_velocity_;
@@ -1054,11 +782,6 @@ class AaSolver final : public Solver {
   /// (split_rows).
   std::vector<int> face_rows_, interior_rows_;
   std::optional<PendingShift> pending_shift_;
-  RelaxationRates rates_;
-  std::int64_t steps_ = 0;
-  /// Below ~16 k cells a step costs less than waking the OpenMP team (and far less than a
-  /// barrier on an oversubscribed machine), so small grids run on the calling thread.
-  bool threaded_ = cell_count() >= 16384;
 };
 
 template <Lattice L, class Collision, class Real>
@@ -1091,14 +814,8 @@ void AaSolver<L, Collision, Real>::import_state(const FluidState& state) {
   }
 
   std::memcpy(populations_.data(), state.populations.data(), state.populations.size());
-  steps_ = state.step_count;
-  clear_forces();
-  for (std::size_t k = 0; k < state.forced_cells.size(); ++k) {
-    const auto n = static_cast<std::size_t>(state.forced_cells[k]);
-    forced_flag_[n] = 1;
-    forced_cells_.push_back(n);
-    for (std::size_t a = 0; a < 3; ++a) force_[a][n] = static_cast<Real>(state.forced_values[3 * k + a]);
-  }
+  populations_.set_step_count(state.step_count);
+  forces_.restore(state.forced_cells, state.forced_values);
   set_solid_cells(std::vector<std::size_t>(state.solid_cells.begin(), state.solid_cells.end()));
 }
 
@@ -1129,7 +846,7 @@ void AaSolver<L, Collision, Real>::set_obstacle(const Obstacle& obstacle) {
     bool ghost = false;
     const auto c = obstacle_site(cell, ghost);
     if (!c) throw std::invalid_argument("set_obstacle: a solid cell lies outside the lattice");
-    const std::size_t padded = layout_.index((*c)[0], (*c)[1], (*c)[2]);
+    const std::size_t padded = layout().index((*c)[0], (*c)[1], (*c)[2]);
     if (ghost) {
       ghosts.push_back(padded);
       continue;
@@ -1199,7 +916,7 @@ void AaSolver<L, Collision, Real>::plan_far_values(const Obstacle& obstacle) {
     p.far = far_.values.size();
     far_.values.push_back(0.0);
     if (home == split.rank) {
-      far_.local.push_back({p.far, layout_.index(y[0], y[1], y[2]), j});
+      far_.local.push_back({p.far, layout().index(y[0], y[1], y[2]), j});
       continue;
     }
     // x - 2 c_i lies at most one cell beyond the ghosts, in an adjacent block: set_obstacle refuses
@@ -1280,8 +997,8 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
   }
   const bool has_second = site_of(x, {-c[0], -c[1], -c[2]}) == Site::fluid;
   PreparedLink p;
-  p.fluid = layout_.index(x[0], x[1], x[2]);
-  p.solid = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p.fluid) + layout_.offset(c));
+  p.fluid = layout().index(x[0], x[1], x[2]);
+  p.solid = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p.fluid) + layout().offset(c));
   p.behind = upstream_of(p.fluid, link.dir);
   p.second = has_second ? p.behind : p.fluid;
   p.dir = link.dir;
@@ -1373,7 +1090,7 @@ std::optional<bool> AaSolver<L, Collision, Real>::solid_near(std::array<int, 3> 
   }
   if (overhang == 0) return solid_at(y[0], y[1], y[2]);
   if (overhang == 1)
-    return std::binary_search(ghost_solids_.begin(), ghost_solids_.end(), layout_.index(y[0], y[1], y[2]));
+    return std::binary_search(ghost_solids_.begin(), ghost_solids_.end(), layout().index(y[0], y[1], y[2]));
   return std::binary_search(far_solids_.begin(), far_solids_.end(), far_key(y));
 }
 
@@ -1394,7 +1111,7 @@ ShiftMass AaSolver<L, Collision, Real>::begin_shift(int axis, int sign, HaloMess
   std::vector<double>* out = onward ? &messages.send[halo_index(*onward)] : nullptr;
   double leaving_sum = 0.0, layer_cells = 0.0;
   for_each_layer_cell(axis, leaving, [&](const std::array<int, 3>& c) {
-    const std::size_t cell = layout_.index(c[0], c[1], c[2]);
+    const std::size_t cell = layout().index(c[0], c[1], c[2]);
     layer_cells += 1.0;
     for (int q = 0; q < Q; ++q) {
       const double g = static_cast<double>(populations_[slot(q, cell)]);
@@ -1417,7 +1134,7 @@ ShiftMass AaSolver<L, Collision, Real>::begin_shift(int axis, int sign, HaloMess
       fluid[a] -= sign, target[a] -= sign;
       const double value = static_cast<double>(populations_[slot(l.dir, l.solid)]);
       if (fluid[a] >= 0 && fluid[a] < extent[a]) {
-        pending.returns.emplace_back(slot(l.dir, layout_.index(target[0], target[1], target[2])), value);
+        pending.returns.emplace_back(slot(l.dir, layout().index(target[0], target[1], target[2])), value);
       } else if (out) {
         target[a] += sign > 0 ? onward_extent : -extent[a];
         out->insert(out->end(), {static_cast<double>(target[0]), static_cast<double>(target[1]),
@@ -1438,19 +1155,19 @@ void AaSolver<L, Collision, Real>::move_layers(int axis, int sign) {
   // elements along y, a plane of sxy along z), so the shift is a memmove of whole blocks per
   // population array: sequential traffic instead of strided walks. Ghost cells inside the
   // moved blocks move too; they are stale at an even parity and rebuilt at an odd one (end_shift).
-  const std::array<std::size_t, 3> block{1, layout_.sx, layout_.sxy};
+  const std::array<std::size_t, 3> block{1, layout().sx, layout().sxy};
   const std::size_t layer = block[static_cast<std::size_t>(axis)];
   // Blocks that hold the layers: one per (y, z) row for x, one per plane for y, one for z.
   std::vector<std::size_t> starts;
   if (axis == 0) {
     for (int z = 0; z < config_.nz; ++z)
-      for (int y = 0; y < config_.ny; ++y) starts.push_back(layout_.index(0, y, z));
+      for (int y = 0; y < config_.ny; ++y) starts.push_back(layout().index(0, y, z));
   } else if (axis == 1) {
     // A row's sx elements counted from its ghost x = -1 hold the whole row, both ghosts included
     // (grid.hpp: sx >= nx + 2); counted from the line start they would not when nx + 2 < sx + x_begin.
-    for (int z = 0; z < config_.nz; ++z) starts.push_back(layout_.index(-1, 0, z));
+    for (int z = 0; z < config_.nz; ++z) starts.push_back(layout().index(-1, 0, z));
   } else {
-    starts.push_back(layout_.index(-1, -1, 0));
+    starts.push_back(layout().index(-1, -1, 0));
   }
   const std::size_t moved = layer * static_cast<std::size_t>(n_axis - 1);
   Real* const data = populations_.data();
@@ -1458,7 +1175,7 @@ void AaSolver<L, Collision, Real>::move_layers(int axis, int sign) {
 #pragma omp parallel for collapse(2) schedule(static) if (threaded_)
   for (int q = 0; q < Q; ++q) {
     for (std::ptrdiff_t b = 0; b < block_count; ++b) {
-      Real* const first = data + static_cast<std::size_t>(q) * layout_.pop_stride + starts[b];
+      Real* const first = data + static_cast<std::size_t>(q) * layout().pop_stride + starts[b];
       if (sign > 0) {
         std::memmove(first, first + layer, moved * sizeof(Real));
         std::fill(first + moved, first + moved + layer, Real(0));  // rest at rho = 1 (shifted storage)
@@ -1489,13 +1206,13 @@ bool AaSolver<L, Collision, Real>::end_shift(HaloMessages& messages) {
     }
     std::size_t k = 0;
     for_each_layer_cell(axis, sign > 0 ? extent[a] - 1 : 0, [&](const std::array<int, 3>& c) {
-      const std::size_t cell = layout_.index(c[0], c[1], c[2]);
+      const std::size_t cell = layout().index(c[0], c[1], c[2]);
       for (int q = 0; q < Q; ++q) populations_[slot(q, cell)] = static_cast<Real>(in[k++]);
       if (in[k++] != 0.0) entering_solids.push_back(linear_index(c[0], c[1], c[2]));
     });
     for (; k < in.size(); k += 5) {
       const std::size_t at =
-          layout_.index(static_cast<int>(in[k]), static_cast<int>(in[k + 1]), static_cast<int>(in[k + 2]));
+          layout().index(static_cast<int>(in[k]), static_cast<int>(in[k + 1]), static_cast<int>(in[k + 2]));
       pending_shift_->returns.emplace_back(slot(static_cast<int>(in[k + 3]), at), in[k + 4]);
     }
   }
@@ -1506,7 +1223,7 @@ bool AaSolver<L, Collision, Real>::end_shift(HaloMessages& messages) {
   }
   // At an odd parity the ghost slots hold copies of the old content: rebuild them, with the
   // adjacent blocks' new faces where split.
-  apply<false>(lists_.fill, lists_.fill_shifted);
+  populations_.template apply<false>(lists_.fill, lists_.fill_shifted, inflow_velocity_);
   if (halo_.empty()) {
     restore_returns();
     return false;
