@@ -19,6 +19,7 @@
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
+#include "lbm/wall_rules.hpp"
 
 namespace settle::lbm {
 
@@ -622,10 +623,6 @@ class AaSolver final : public Solver {
     Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
   };
   static constexpr std::size_t kNoFar = static_cast<std::size_t>(-1), kFarUnplanned = kNoFar - 1;
-  /// The coefficients of Bouzidi's linear (`quadratic` false) or quadratic rule at fraction q.
-  static void set_interpolation(PreparedLink& p, double q, double moving, bool quadratic);
-  /// The coefficients of Ginzburg's central linear rule at fraction q.
-  static void set_central_linear(PreparedLink& p, double q, double moving);
   /// True when x - c_i and x - 2 c_i are fluid cells of the lattice (x in block coordinates).
   bool has_two_fluid_cells_behind(const std::array<int, 3>& x, const std::array<int, 3>& c) const;
   /// Whether cell y (block coordinates, at most two cells beyond the block's faces) is solid; empty
@@ -996,30 +993,19 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
     throw std::invalid_argument("set_obstacle: a link must lead from a fluid cell to a solid one");
   }
   const bool has_second = site_of(x, {-c[0], -c[1], -c[2]}) == Site::fluid;
+  const bool has_third = rule == WallRule::quadratic && has_two_fluid_cells_behind(x, c);
+  const WallCoefficients k = wall_coefficients(rule, link.q, has_second, has_third);
   PreparedLink p;
   p.fluid = layout().index(x[0], x[1], x[2]);
   p.solid = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p.fluid) + layout().offset(c));
   p.behind = upstream_of(p.fluid, link.dir);
   p.second = has_second ? p.behind : p.fluid;
+  p.third = p.fluid;
   p.dir = link.dir;
   p.wall_velocity = link.wall_velocity;
-  // Ladd's moving-wall term -2 w_i rho_0 c_i.u_w / cs^2 at rho_0 = 1, scaled like f*_i(x).
-  const double moving = -6.0 * L::set.w[link.dir] *
-                        (c[0] * link.wall_velocity[0] + c[1] * link.wall_velocity[1] + c[2] * link.wall_velocity[2]);
-  p.third = p.fluid;
-  const double q = link.q;
-  if (rule == WallRule::halfway || (!has_second && (q < 0.5 || rule == WallRule::central_linear))) {
-    // Without the second node the interpolation has nothing to lean on: half-way bounce-back
-    // there (first order at that link only).
-    p.a = 1.0, p.wall = moving;
-    return p;
-  }
-  if (rule == WallRule::central_linear) {
-    set_central_linear(p, q, moving);
-    return p;
-  }
-  const bool quadratic = rule == WallRule::quadratic && has_two_fluid_cells_behind(x, c);
-  if (quadratic) {
+  p.a = k.a, p.b = k.b, p.c = k.c, p.b2 = k.b2, p.c2 = k.c2;
+  p.wall = k.wall_term(moving_wall_term(L::set.w[link.dir], c, link.wall_velocity));
+  if (k.reads_third) {
     const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
     bool second_inside = true;
     for (std::size_t a = 0; a < 3; ++a) second_inside = second_inside && x[a] - c[a] >= 0 && x[a] - c[a] < extent[a];
@@ -1030,38 +1016,7 @@ typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>
       p.far = kFarUnplanned;
     }
   }
-  set_interpolation(p, q, moving, quadratic);
   return p;
-}
-
-// Lagrange interpolation along the link (Bouzidi, Firdaouss and Lallemand 2001). q < 1/2: the
-// population that reaches x after its bounce left from x + (2q - 1) c_i before the streaming; it
-// is interpolated from f*_i at x, x - c_i (and x - 2 c_i). q >= 1/2: the bounced f*_i(x) lands at
-// x + (2q - 1) c_i, and the value at x is interpolated between it and f*_opp(i) streamed to
-// x - c_i (and x - 2 c_i). The moving-wall term rides with the bounced population's weight.
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::set_interpolation(PreparedLink& p, double q, double moving, bool quadratic) {
-  if (q < 0.5 && !quadratic) {
-    p.a = 2.0 * q, p.b = 1.0 - 2.0 * q, p.wall = moving;
-  } else if (q < 0.5) {
-    p.a = q * (1.0 + 2.0 * q), p.b = (1.0 - 2.0 * q) * (1.0 + 2.0 * q), p.b2 = -q * (1.0 - 2.0 * q);
-    p.wall = moving;
-  } else if (!quadratic) {
-    p.a = 0.5 / q, p.c = (2.0 * q - 1.0) / (2.0 * q), p.wall = moving / (2.0 * q);
-  } else {
-    p.a = 1.0 / (q * (2.0 * q + 1.0)), p.c = (2.0 * q - 1.0) / q, p.c2 = -(2.0 * q - 1.0) / (2.0 * q + 1.0);
-    p.wall = moving * p.a;
-  }
-}
-
-// Central linear interpolation (Ginzburg, Verhaeghe and d'Humieres 2008, their Eq. (4.1) with the
-// coefficients of their Tables 3 and 4): f_back = f*_i(x) + k (f*_i(x - c_i) - f*_opp(i)(x)) with
-// k = (1 - 2q) / (1 + 2q), and the moving-wall term scaled by 2 / (1 + 2q). Unlike Bouzidi's rule it
-// needs no switch at q = 1/2, where it is half-way bounce-back; for every q it reads x - c_i.
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::set_central_linear(PreparedLink& p, double q, double moving) {
-  const double k = (1.0 - 2.0 * q) / (1.0 + 2.0 * q);
-  p.a = 1.0, p.b = k, p.c = -k, p.wall = moving * 2.0 / (1.0 + 2.0 * q);
 }
 
 template <Lattice L, class Collision, class Real>
