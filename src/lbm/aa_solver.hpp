@@ -14,18 +14,14 @@
 #include "lbm/aa_kernel.hpp"
 #include "lbm/aa_populations.hpp"
 #include "lbm/block_geometry.hpp"
+#include "lbm/block_obstacle.hpp"
 #include "lbm/collision.hpp"
 #include "lbm/force_field.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
-#include "lbm/wall_rules.hpp"
 
 namespace settle::lbm {
-
-/// Below this many wall links their preparation runs on one thread: a parallel loop's wake-up
-/// costs a few microseconds, a link about 0.1 us (docs/performance.md, "Small grids").
-inline constexpr std::ptrdiff_t kLinksWorthThreads = 128;
 
 template <Lattice L, class Collision, class Real>
 class AaSolver final : public Solver {
@@ -39,7 +35,8 @@ class AaSolver final : public Solver {
         populations_(geometry_),
         forces_(geometry_.cell_count(), threaded_),
         kernel_(config, threaded_),
-        inflow_velocity_(config.inflow_velocity) {
+        inflow_velocity_(config.inflow_velocity),
+        obstacle_(geometry_) {
     BlockLists block = build_block_lists<L>(layout(), geometry_.face_kinds(), geometry_.split());
     lists_ = std::move(block.local);
     halo_ = std::move(block.halo);
@@ -95,25 +92,19 @@ class AaSolver final : public Solver {
     return counts;
   }
 
-  bool exchanges_far_values() const override { return !halo_.empty() && obstacle_rule_ == WallRule::quadratic; }
-  void far_requests(HaloMessages& messages) const override {
-    messages.send.assign(halo_.size(), {});
-    for (std::size_t k = 0; k < far_.requests.size(); ++k) messages.send[k] = far_.requests[k];
+  bool exchanges_far_values() const override { return !halo_.empty() && obstacle_.rule() == WallRule::quadratic; }
+  void far_requests(HaloMessages& messages) const override { obstacle_.far_values().requests(messages, halo_.size()); }
+  void take_far_requests(const HaloMessages& messages) override {
+    check_message_count(messages, "take_far_requests");
+    obstacle_.far_values().take_requests(messages, {config_.nx, config_.ny, config_.nz}, Q);
   }
-  void take_far_requests(const HaloMessages& messages) override;
   void far_answers(HaloMessages& messages) const override {
-    messages.send.assign(halo_.size(), {});
-    for (std::size_t k = 0; k < far_.asked.size(); ++k) {
-      const std::vector<double>& asked = far_.asked[k];
-      for (std::size_t n = 0; n < asked.size(); n += 4) {
-        const auto at = [&](std::size_t m) { return static_cast<int>(asked[n + m]); };
-        const std::size_t cell = layout().index(at(0), at(1), at(2));
-        messages.send[k].push_back(odd_parity() ? post_collision<true>(at(3), cell)
-                                                : post_collision<false>(at(3), cell));
-      }
-    }
+    obstacle_.far_values().answers(messages, halo_.size(), populations_);
   }
-  void take_far_answers(const HaloMessages& messages) override;
+  void take_far_answers(const HaloMessages& messages) override {
+    check_message_count(messages, "take_far_answers");
+    obstacle_.far_values().take_answers(messages, halo_ranks());
+  }
 
   void end_step(const HaloMessages& messages) override {
     check_message_count(messages, "end_step");
@@ -313,7 +304,7 @@ class AaSolver final : public Solver {
   void clear_forces() override { forces_.clear(); }
   std::size_t forced_cell_count() const override { return forces_.cells().size(); }
 
-  void set_obstacle(const Obstacle& obstacle) override;
+  void set_obstacle(const Obstacle& obstacle) override { obstacle_.set(obstacle, halo_ranks()); }
   void set_inflow_velocity(const Eigen::Vector3d& velocity) override {
     if (!velocity.allFinite() || velocity.norm() >= 0.3) {
       throw std::invalid_argument("set_inflow_velocity: must be finite with magnitude below 0.3");
@@ -325,17 +316,14 @@ class AaSolver final : public Solver {
     const auto c = resolve(x, y, z);
     return solid_at(c[0], c[1], c[2]);
   }
-  std::size_t solid_cell_count() const override { return solid_cells_.size(); }
+  std::size_t solid_cell_count() const override { return obstacle_.solid_cells().size(); }
   std::vector<std::array<int, 3>> solid_cell_list() const override {
     std::vector<std::array<int, 3>> cells;
-    cells.reserve(solid_cells_.size());
-    const std::size_t nx = static_cast<std::size_t>(config_.nx), ny = static_cast<std::size_t>(config_.ny);
-    for (const std::size_t n : solid_cells_) {
-      cells.push_back({static_cast<int>(n % nx), static_cast<int>(n / nx % ny), static_cast<int>(n / (nx * ny))});
-    }
+    cells.reserve(obstacle_.solid_cells().size());
+    for (const std::size_t n : obstacle_.solid_cells()) cells.push_back(geometry_.cell_of_linear(n));
     return cells;
   }
-  const std::vector<Eigen::Vector3d>& wall_momentum() const override { return wall_momentum_; }
+  const std::vector<Eigen::Vector3d>& wall_momentum() const override { return obstacle_.wall_momentum(); }
 
   std::size_t bytes_per_cell_update() const override { return (2 * Q + 3) * sizeof(Real); }
 
@@ -350,7 +338,7 @@ class AaSolver final : public Solver {
       state.forced_cells.push_back(n);
       for (int a = 0; a < 3; ++a) state.forced_values.push_back(forces_.value(a, n));
     }
-    state.solid_cells.assign(solid_cells_.begin(), solid_cells_.end());
+    state.solid_cells.assign(obstacle_.solid_cells().begin(), obstacle_.solid_cells().end());
     return state;
   }
 
@@ -368,7 +356,7 @@ class AaSolver final : public Solver {
   // adjacent blocks when split, and the rest (end_local). Walls inside the grid close last: after
   // an odd kernel once the fold (own faces and messages) has brought home what crossed a face,
   // after an even one once the fill has written the ghosts, so that a link may read its second
-  // node from a ghost and write its returning population into one (close_wall_links).
+  // node from a ghost and write its returning population into one (BlockObstacle::close).
   void begin_local() {
     if (odd_parity()) {
       kernel_.template run<true>(populations_, forces_);
@@ -380,12 +368,12 @@ class AaSolver final : public Solver {
   }
   void end_local() {
     if (odd_parity()) {
-      read_local_far_values<true>();
-      close_wall_links<true>();
-      reset_solid_cells();
+      obstacle_.far_values().template read_local<true>(populations_);
+      obstacle_.template close<true>(populations_);
+      obstacle_.reset_solid_cells(populations_);
     } else {
-      read_local_far_values<false>();
-      close_wall_links<false>();
+      obstacle_.far_values().template read_local<false>(populations_);
+      obstacle_.template close<false>(populations_);
     }
     populations_.advance();
   }
@@ -414,7 +402,7 @@ class AaSolver final : public Solver {
 
   /// A window shift between begin_shift and the last of its exchanges. At an odd parity the
   /// ghosts are rebuilt from the moved content, which loses the populations that wall links
-  /// returned into them (close_wall_links writes a link's returning population where its fluid
+  /// returned into them (BlockObstacle::close writes a link's returning population where its fluid
   /// cell reads it, a ghost when the solid cell lies across a face): `returns` keeps them, moved
   /// with their fluid cells, to be written back (slot, value).
   struct PendingShift {
@@ -573,7 +561,7 @@ class AaSolver final : public Solver {
     }
   }
 
-  bool solid_at(int x, int y, int z) const { return !solid_flag_.empty() && solid_flag_[linear_index(x, y, z)] != 0; }
+  bool solid_at(int x, int y, int z) const { return obstacle_.solid_at(x, y, z); }
 
   bool has_block_beyond(std::size_t a, int side, bool through_wrap) const {
     return geometry_.has_block_beyond(a, side, through_wrap);
@@ -585,147 +573,8 @@ class AaSolver final : public Solver {
     throw std::logic_error("halo: rank " + std::to_string(rank) + " is not an adjacent block");
   }
 
-  std::optional<std::array<int, 3>> obstacle_site(std::array<int, 3> c, bool& ghost) const {
-    return geometry_.site(c, ghost);
-  }
-  enum class Site { outside, fluid, solid };
-  /// What lies at x + d for interior x, |d| <= 1 per axis: a cell of this block, a ghost, or nothing.
-  Site site_of(const std::array<int, 3>& x, const std::array<int, 3>& d) const {
-    bool ghost = false;
-    const auto c = obstacle_site({x[0] + d[0], x[1] + d[1], x[2] + d[2]}, ghost);
-    if (!c) return Site::outside;
-    const bool solid = ghost ? std::binary_search(ghost_solids_.begin(), ghost_solids_.end(),
-                                                  layout().index((*c)[0], (*c)[1], (*c)[2]))
-                             : solid_at((*c)[0], (*c)[1], (*c)[2]);
-    return solid ? Site::solid : Site::fluid;
-  }
   /// Coordinates of padded index p (inverse of GridLayout::index).
   std::array<int, 3> padded_coordinates(std::size_t p) const { return geometry_.padded_coordinates(p); }
-
-  /// A wall link in slot terms. The population coming back from the wall,
-  ///   f_back = a f*_i(x) + b f*_i(x - c_i) + c f*_opp(i)(x)
-  ///          + b2 f*_i(x - 2 c_i) + c2 f*_opp(i)(x - c_i) + wall,
-  /// goes where the next kernel reads f_opp(i)(x) (docs/lbm.md, "Walls inside the grid").
-  struct PreparedLink {
-    // Padded indices, unwrapped: x +- c_i may be a ghost (a periodic image or a cell of an adjacent
-    // block). The kernels of x read and write there, and the ghosts hold what crossed the face when
-    // the links close (begin_local), so no index needs the cell's home.
-    std::size_t fluid = 0;   ///< the fluid cell x
-    std::size_t solid = 0;   ///< x + c_i
-    std::size_t second = 0;  ///< x - c_i when it is fluid (read only when b != 0), else x
-    std::size_t behind = 0;  ///< x - c_i: where the odd kernel puts f*_opp(i)(x)
-    std::size_t third = 0;   ///< x - 2 c_i when the quadratic rule reads it (b2 or c2 != 0), else x
-    /// With the quadratic rule and x - c_i a ghost: the entry of far_.values that holds the third
-    /// value (kNoFar otherwise; kFarUnplanned between prepare_link and plan_far_values).
-    std::size_t far = kNoFar;
-    int dir = 0;
-    double a = 1.0, b = 0.0, c = 0.0, b2 = 0.0, c2 = 0.0, wall = 0.0;
-    Eigen::Vector3d wall_velocity = Eigen::Vector3d::Zero();
-  };
-  static constexpr std::size_t kNoFar = static_cast<std::size_t>(-1), kFarUnplanned = kNoFar - 1;
-  /// True when x - c_i and x - 2 c_i are fluid cells of the lattice (x in block coordinates).
-  bool has_two_fluid_cells_behind(const std::array<int, 3>& x, const std::array<int, 3>& c) const;
-  /// Whether cell y (block coordinates, at most two cells beyond the block's faces) is solid; empty
-  /// beyond a face of the lattice that is not periodic.
-  std::optional<bool> solid_near(std::array<int, 3> y) const;
-  std::size_t far_key(const std::array<int, 3>& y) const {
-    const auto n = [](int v) { return static_cast<std::size_t>(v + 2); };
-    return n(y[0]) + n(config_.nx + 2) * (n(y[1]) + n(config_.ny + 2) * n(y[2]));
-  }
-  /// Assigns the far values of the links prepare_link marked: read here, or asked of their block.
-  void plan_far_values(const Obstacle& obstacle);
-  /// f*_j(y) of interior cell y (padded index) after the kernel of the given parity.
-  template <bool Odd>
-  double post_collision(int j, std::size_t y) const {
-    return populations_.template post_collision<Odd>(j, y);
-  }
-  template <bool Odd>
-  void read_local_far_values() {
-    for (const FarLocal& e : far_.local) far_.values[e.value] = post_collision<Odd>(e.population, e.cell);
-  }
-
-  PreparedLink prepare_link(const WallLink& link, WallRule rule) const;
-  std::vector<PreparedLink> prepare_links(const Obstacle& obstacle) const;
-  /// The solid cells move with the content in a window shift (those leaving the grid are
-  /// dropped); the links are dropped, to be set again at the obstacle's new place.
-  void shift_solid_cells(int axis, int sign, std::vector<std::size_t> entering) {
-    if (solid_cells_.empty() && entering.empty()) {
-      ghost_solids_.clear(), far_solids_.clear(), links_.clear(), wall_momentum_.clear(), far_ = {};
-      return;
-    }
-    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-    std::vector<std::size_t> moved;
-    for (const std::size_t n : solid_cells_) {
-      std::array<int, 3> c{
-          static_cast<int>(n % static_cast<std::size_t>(extent[0])),
-          static_cast<int>(n / static_cast<std::size_t>(extent[0]) % static_cast<std::size_t>(extent[1])),
-          static_cast<int>(n / (static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1])))};
-      c[static_cast<std::size_t>(axis)] -= sign;
-      if (c[static_cast<std::size_t>(axis)] < 0 ||
-          c[static_cast<std::size_t>(axis)] >= extent[static_cast<std::size_t>(axis)])
-        continue;
-      moved.push_back(linear_index(c[0], c[1], c[2]));
-    }
-    moved.insert(moved.end(), entering.begin(), entering.end());
-    std::sort(moved.begin(), moved.end());
-    set_solid_cells(std::move(moved));
-  }
-  void set_solid_cells(std::vector<std::size_t> cells);
-
-  /// Closes every wall link after the kernel of the given parity and records its momentum
-  /// exchange. After an even kernel f*_j(y) sits in slot opp(j) at y and the odd kernel of x will
-  /// read f_opp(i)(x) from slot i at x + c_i (a solid cell); after an odd kernel f*_i(x) sits in
-  /// slot i at x + c_i, f*_i(x - c_i) in slot i at x, f*_opp(i)(x) in slot opp(i) at x - c_i, and
-  /// the even kernel reads f_opp(i)(x) from slot opp(i) at x. No link writes a slot another
-  /// reads (writes go to solid cells after an even kernel, reads to fluid ones; after an odd
-  /// one the written slot opp(i) at x would be read only by a link from x + c_i, a solid cell).
-  template <bool Odd>
-  void close_wall_links() {
-    Real* const A = populations_.data();
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(links_.size());
-#pragma omp parallel for schedule(static) if (threaded_ && count > 4096)
-    for (std::ptrdiff_t k = 0; k < count; ++k) {
-      const PreparedLink& l = links_[static_cast<std::size_t>(k)];
-      const int i = l.dir, o = opposite(i);
-      const std::size_t in_slot = Odd ? slot(i, l.solid) : slot(o, l.fluid);
-      const std::size_t out_slot = Odd ? slot(o, l.fluid) : slot(i, l.solid);
-      const double f_in = static_cast<double>(A[in_slot]);
-      const double f_second = l.b != 0.0 ? static_cast<double>(Odd ? A[slot(i, l.fluid)] : A[slot(o, l.second)]) : 0.0;
-      const double f_opposite =
-          l.c != 0.0 ? static_cast<double>(Odd ? A[slot(o, l.behind)] : A[slot(i, l.fluid)]) : 0.0;
-      // The quadratic rule's third points: f*_i(x - 2c_i) and f*_opp(i)(x - c_i).
-      // A link whose x - c_i is a ghost reads the one it needs from far_ (plan_far_values).
-      const double far = l.far != kNoFar ? far_.values[l.far] : 0.0;
-      const double f_third = l.b2 == 0.0       ? 0.0
-                             : l.far != kNoFar ? far
-                                               : static_cast<double>(Odd ? A[slot(i, l.behind)] : A[slot(o, l.third)]);
-      const double f_opposite_behind = l.c2 == 0.0 ? 0.0
-                                       : l.far != kNoFar
-                                           ? far
-                                           : static_cast<double>(Odd ? A[slot(o, l.third)] : A[slot(i, l.behind)]);
-      const Real back = static_cast<Real>(l.a * f_in + l.b * f_second + l.c * f_opposite + l.b2 * f_third +
-                                          l.c2 * f_opposite_behind + l.wall);
-      A[out_slot] = back;
-      // Shifted storage holds f - w: the momentum needs f itself.
-      const double w = L::set.w[i];
-      const double f_out = f_in + w, f_back = static_cast<double>(back) + w;
-      const auto& c = L::set.c[i];
-      wall_momentum_[static_cast<std::size_t>(k)] =
-          Eigen::Vector3d(c[0], c[1], c[2]) * (f_out + f_back) - l.wall_velocity * (f_out - f_back);
-    }
-  }
-
-  /// Sets the solid cells to rest (stored 0), so that what streams into them from the fluid
-  /// does not pile up over the run. After the odd step's links have read their slots.
-  void reset_solid_cells() {
-    Real* const A = populations_.data();
-    for (const std::size_t n : solid_cells_) {
-      const std::size_t cell = padded_of_linear(n);
-      for (int q = 0; q < Q; ++q) A[slot(q, cell)] = Real(0);
-    }
-  }
-
-  std::size_t padded_of_linear(std::size_t n) const { return geometry_.padded_of_linear(n); }
 
   StateLayout state_layout() const {
     return {config_.nx,
@@ -749,32 +598,7 @@ class AaSolver final : public Solver {
   CopyLists lists_;
   std::vector<HaloLinks> halo_;
   Eigen::Vector3d inflow_velocity_;
-  // The obstacle: solid cells (flag per interior cell, allocated with the first obstacle, and
-  // their linear indices in ascending order), its links and their last momentum exchange.
-  std::vector<std::uint8_t> solid_flag_;
-  std::vector<std::size_t> solid_cells_;
-  std::vector<PreparedLink> links_;
-  std::vector<Eigen::Vector3d> wall_momentum_;
-  /// Solid cells of adjacent blocks in the ghost layer (padded indices, ascending): where this
-  /// block's links end across a block face.
-  std::vector<std::size_t> ghost_solids_;
-  /// Solid cells one layer beyond the ghosts (far_key, ascending): the quadratic rule's x - 2 c_i.
-  std::vector<std::size_t> far_solids_;
-  WallRule obstacle_rule_ = WallRule::bouzidi;
-  /// The quadratic rule's third values of links whose x - c_i is a ghost (PreparedLink::far).
-  struct FarLocal {
-    std::size_t value = 0, cell = 0;  ///< entry of `values`; the interior cell y (padded index)
-    int population = 0;               ///< j of f*_j(y)
-  };
-  struct FarValues {
-    std::vector<double> values;
-    std::vector<FarLocal> local;  ///< those this block holds (across a periodic wrap)
-    /// Per halo rank: what this block asks of it (x, y, z in its block's coordinates, j; four values
-    /// each), the entry of `values` each answer fills, and what it asked of this block.
-    std::vector<std::vector<double>> requests;
-    std::vector<std::vector<std::size_t>> answers_to;
-    std::vector<std::vector<double>> asked;
-  } far_;
+  BlockObstacle<L, Real> obstacle_;
   /// A block's rows (y + ny z) near the faces it shares with other blocks, and the rest
   /// (split_rows).
   std::vector<int> face_rows_, interior_rows_;
@@ -813,240 +637,7 @@ void AaSolver<L, Collision, Real>::import_state(const FluidState& state) {
   std::memcpy(populations_.data(), state.populations.data(), state.populations.size());
   populations_.set_step_count(state.step_count);
   forces_.restore(state.forced_cells, state.forced_values);
-  set_solid_cells(std::vector<std::size_t>(state.solid_cells.begin(), state.solid_cells.end()));
-}
-
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::set_solid_cells(std::vector<std::size_t> cells) {
-  for (const std::size_t n : solid_cells_) solid_flag_[n] = 0;
-  links_.clear();
-  wall_momentum_.clear();
-  ghost_solids_.clear();
-  far_solids_.clear();
-  far_ = {};
-  solid_cells_ = std::move(cells);
-  if (solid_cells_.empty()) return;
-  if (solid_flag_.empty()) solid_flag_.assign(cell_count(), 0);
-  for (const std::size_t n : solid_cells_) solid_flag_[n] = 1;
-}
-
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::set_obstacle(const Obstacle& obstacle) {
-  std::vector<std::size_t> cells, ghosts;
-  cells.reserve(obstacle.solid_cells.size());
-  // A free-slip or outflow face copies populations from cells of its own layer, which would
-  // carry a solid cell's scratch into the fluid; walls and inlets copy only within a cell. The
-  // block that holds a cell checks it.
-  const FaceKinds kinds = face_kinds(config_);
-  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-  for (const auto& cell : obstacle.solid_cells) {
-    bool ghost = false;
-    const auto c = obstacle_site(cell, ghost);
-    if (!c) throw std::invalid_argument("set_obstacle: a solid cell lies outside the lattice");
-    const std::size_t padded = layout().index((*c)[0], (*c)[1], (*c)[2]);
-    if (ghost) {
-      ghosts.push_back(padded);
-      continue;
-    }
-    cells.push_back(linear_index((*c)[0], (*c)[1], (*c)[2]));
-    for (std::size_t a = 0; a < 3; ++a) {
-      for (const int side : {0, 1}) {
-        const Boundary kind = kinds[a][static_cast<std::size_t>(side)];
-        const bool on_face = (*c)[a] == (side == 0 ? 0 : extent[a] - 1) && !has_block_beyond(a, side, true);
-        if ((kind == Boundary::free_slip || kind == Boundary::outflow) && on_face) {
-          throw std::invalid_argument("set_obstacle: a solid cell lies on a free-slip or outflow face");
-        }
-      }
-    }
-  }
-  std::sort(cells.begin(), cells.end());
-  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-  std::sort(ghosts.begin(), ghosts.end());
-  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
-  // Every block refuses, so that none waits for another's exchange.
-  if (obstacle.rule == WallRule::quadratic && config_.split && config_.split->thinnest_block() < 2) {
-    throw std::invalid_argument(
-        "set_obstacle: the quadratic rule reads two cells behind a link, which needs blocks at least two cells "
-        "thick along a split axis");
-  }
-  std::vector<std::size_t> far;
-  for (const auto& cell : obstacle.far_solid_cells) {
-    for (std::size_t a = 0; a < 3; ++a) {
-      if (cell[a] < -2 || cell[a] > extent[a] + 1) {
-        throw std::invalid_argument("set_obstacle: a far solid cell lies more than two cells beyond the block");
-      }
-    }
-    far.push_back(far_key(cell));
-  }
-  std::sort(far.begin(), far.end());
-  set_solid_cells(std::move(cells));
-  ghost_solids_ = std::move(ghosts);
-  far_solids_ = std::move(far);
-  obstacle_rule_ = obstacle.rule;
-  links_ = prepare_links(obstacle);
-  plan_far_values(obstacle);
-  wall_momentum_.assign(links_.size(), Eigen::Vector3d::Zero());
-}
-
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::plan_far_values(const Obstacle& obstacle) {
-  far_ = {};
-  far_.requests.resize(halo_.size());
-  far_.answers_to.resize(halo_.size());
-  const BlockSplit split = config_.split.value_or(unsplit({config_.nx, config_.ny, config_.nz}));
-  const std::array<int, 3> origin = split.offset(split.rank);
-  for (std::size_t k = 0; k < links_.size(); ++k) {
-    PreparedLink& p = links_[k];
-    if (p.far != kFarUnplanned) continue;
-    const auto x = resolve(obstacle.links[k].cell[0], obstacle.links[k].cell[1], obstacle.links[k].cell[2]);
-    const auto& c = L::set.c[p.dir];
-    // q < 1/2 reads f*_i(x - 2 c_i), q >= 1/2 reads f*_opp(i)(x - c_i).
-    const int steps_back = p.b2 != 0.0 ? 2 : 1, j = p.b2 != 0.0 ? p.dir : opposite(p.dir);
-    std::array<int, 3> y{};
-    for (std::size_t a = 0; a < 3; ++a) {
-      const int g = split.global[a];
-      y[a] = ((x[a] - steps_back * c[a] + origin[a]) % g + g) % g;  // fluid, so inside or across a wrap
-    }
-    const int home = split.owner(y);
-    const std::array<int, 3> at = split.offset(home);
-    for (std::size_t a = 0; a < 3; ++a) y[a] -= at[a];
-    p.far = far_.values.size();
-    far_.values.push_back(0.0);
-    if (home == split.rank) {
-      far_.local.push_back({p.far, layout().index(y[0], y[1], y[2]), j});
-      continue;
-    }
-    // x - 2 c_i lies at most one cell beyond the ghosts, in an adjacent block: set_obstacle refuses
-    // splits with blocks thinner than two cells.
-    const std::size_t n = halo_index(home);
-    far_.requests[n].insert(far_.requests[n].end(), {static_cast<double>(y[0]), static_cast<double>(y[1]),
-                                                     static_cast<double>(y[2]), static_cast<double>(j)});
-    far_.answers_to[n].push_back(p.far);
-  }
-}
-
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::take_far_requests(const HaloMessages& messages) {
-  check_message_count(messages, "take_far_requests");
-  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-  for (const std::vector<double>& asked : messages.receive) {
-    if (asked.size() % 4 != 0) throw std::invalid_argument("take_far_requests: a request holds four values");
-    for (std::size_t n = 0; n < asked.size(); n += 4) {
-      for (std::size_t a = 0; a < 3; ++a) {
-        if (!(asked[n + a] >= 0.0 && asked[n + a] < extent[a])) {
-          throw std::invalid_argument("take_far_requests: a requested cell lies outside the block");
-        }
-      }
-      if (!(asked[n + 3] >= 0.0 && asked[n + 3] < Q)) {
-        throw std::invalid_argument("take_far_requests: a requested population is out of range");
-      }
-    }
-  }
-  far_.asked = messages.receive;
-}
-
-template <Lattice L, class Collision, class Real>
-void AaSolver<L, Collision, Real>::take_far_answers(const HaloMessages& messages) {
-  check_message_count(messages, "take_far_answers");
-  for (std::size_t k = 0; k < halo_.size(); ++k) {
-    const std::vector<std::size_t> none;
-    const std::vector<std::size_t>& to = k < far_.answers_to.size() ? far_.answers_to[k] : none;
-    if (messages.receive[k].size() != to.size()) {
-      throw std::invalid_argument("take_far_answers: " + std::to_string(messages.receive[k].size()) +
-                                  " values from rank " + std::to_string(halo_[k].rank) + ", expected " +
-                                  std::to_string(to.size()));
-    }
-    for (std::size_t n = 0; n < to.size(); ++n) far_.values[to[n]] = messages.receive[k][n];
-  }
-}
-
-template <Lattice L, class Collision, class Real>
-std::vector<typename AaSolver<L, Collision, Real>::PreparedLink> AaSolver<L, Collision, Real>::prepare_links(
-    const Obstacle& obstacle) const {
-  const auto count = static_cast<std::ptrdiff_t>(obstacle.links.size());
-  std::vector<PreparedLink> prepared(obstacle.links.size());
-  // A moving body's links are prepared every step. An exception may not leave a parallel region:
-  // the first bad link's (the serial loop's) is kept and thrown after it.
-  std::ptrdiff_t first_bad = count;
-  std::exception_ptr error;
-#pragma omp parallel for schedule(static) if (threaded_ && count > kLinksWorthThreads)
-  for (std::ptrdiff_t k = 0; k < count; ++k) {
-    try {
-      prepared[static_cast<std::size_t>(k)] = prepare_link(obstacle.links[static_cast<std::size_t>(k)], obstacle.rule);
-    } catch (...) {
-#pragma omp critical(settle_prepare_links)
-      if (k < first_bad) first_bad = k, error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
-  return prepared;
-}
-
-template <Lattice L, class Collision, class Real>
-typename AaSolver<L, Collision, Real>::PreparedLink AaSolver<L, Collision, Real>::prepare_link(const WallLink& link,
-                                                                                               WallRule rule) const {
-  if (link.dir < 1 || link.dir >= Q) throw std::invalid_argument("set_obstacle: link direction out of range");
-  if (!(link.q > 0.0 && link.q <= 1.0)) throw std::invalid_argument("set_obstacle: link fraction q outside (0, 1]");
-  const auto x = resolve(link.cell[0], link.cell[1], link.cell[2]);
-  const auto& c = L::set.c[link.dir];
-  if (solid_at(x[0], x[1], x[2]) || site_of(x, c) != Site::solid) {
-    throw std::invalid_argument("set_obstacle: a link must lead from a fluid cell to a solid one");
-  }
-  const bool has_second = site_of(x, {-c[0], -c[1], -c[2]}) == Site::fluid;
-  const bool has_third = rule == WallRule::quadratic && has_two_fluid_cells_behind(x, c);
-  const WallCoefficients k = wall_coefficients(rule, link.q, has_second, has_third);
-  PreparedLink p;
-  p.fluid = layout().index(x[0], x[1], x[2]);
-  p.solid = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p.fluid) + layout().offset(c));
-  p.behind = upstream_of(p.fluid, link.dir);
-  p.second = has_second ? p.behind : p.fluid;
-  p.third = p.fluid;
-  p.dir = link.dir;
-  p.wall_velocity = link.wall_velocity;
-  p.a = k.a, p.b = k.b, p.c = k.c, p.b2 = k.b2, p.c2 = k.c2;
-  p.wall = k.wall_term(moving_wall_term(L::set.w[link.dir], c, link.wall_velocity));
-  if (k.reads_third) {
-    const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-    bool second_inside = true;
-    for (std::size_t a = 0; a < 3; ++a) second_inside = second_inside && x[a] - c[a] >= 0 && x[a] - c[a] < extent[a];
-    // A ghost's neighbour x - 2 c_i lies beyond the padded block: its value comes from its home.
-    if (second_inside) {
-      p.third = upstream_of(p.behind, link.dir);
-    } else {
-      p.far = kFarUnplanned;
-    }
-  }
-  return p;
-}
-
-template <Lattice L, class Collision, class Real>
-bool AaSolver<L, Collision, Real>::has_two_fluid_cells_behind(const std::array<int, 3>& x,
-                                                              const std::array<int, 3>& c) const {
-  for (const int k : {1, 2}) {
-    const auto solid = solid_near({x[0] - k * c[0], x[1] - k * c[1], x[2] - k * c[2]});
-    if (!solid || *solid) return false;
-  }
-  return true;
-}
-
-template <Lattice L, class Collision, class Real>
-std::optional<bool> AaSolver<L, Collision, Real>::solid_near(std::array<int, 3> y) const {
-  const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
-  int overhang = 0;  // how far beyond the block's faces, the largest over the axes
-  for (std::size_t a = 0; a < 3; ++a) {
-    if (y[a] >= 0 && y[a] < extent[a]) continue;
-    const int side = y[a] < 0 ? 0 : 1;
-    if (has_block_beyond(a, side, true)) {
-      overhang = std::max(overhang, side == 0 ? -y[a] : y[a] - extent[a] + 1);
-      continue;
-    }
-    if (config_.boundaries[a] != Boundary::periodic) return std::nullopt;
-    y[a] = ((y[a] % extent[a]) + extent[a]) % extent[a];  // one block along a periodic axis
-  }
-  if (overhang == 0) return solid_at(y[0], y[1], y[2]);
-  if (overhang == 1)
-    return std::binary_search(ghost_solids_.begin(), ghost_solids_.end(), layout().index(y[0], y[1], y[2]));
-  return std::binary_search(far_solids_.begin(), far_solids_.end(), far_key(y));
+  obstacle_.set_solid_cells(std::vector<std::size_t>(state.solid_cells.begin(), state.solid_cells.end()));
 }
 
 template <Lattice L, class Collision, class Real>
@@ -1084,7 +675,7 @@ ShiftMass AaSolver<L, Collision, Real>::begin_shift(int axis, int sign, HaloMess
     // The links' returned populations, with their fluid cells' new places; those whose fluid cell
     // moves into the onward block travel with the layer (its coordinates: x, y, z, direction, value).
     const int onward_extent = onward ? config_.split->extent(*onward)[a] : 0;
-    for (const PreparedLink& l : links_) {
+    for (const PreparedLink& l : obstacle_.links()) {
       std::array<int, 3> fluid = padded_coordinates(l.fluid), target = padded_coordinates(l.solid);
       fluid[a] -= sign, target[a] -= sign;
       const double value = static_cast<double>(populations_[slot(l.dir, l.solid)]);
@@ -1171,7 +762,7 @@ bool AaSolver<L, Collision, Real>::end_shift(HaloMessages& messages) {
       pending_shift_->returns.emplace_back(slot(static_cast<int>(in[k + 3]), at), in[k + 4]);
     }
   }
-  shift_solid_cells(axis, sign, std::move(entering_solids));
+  obstacle_.shift_solid_cells(axis, sign, std::move(entering_solids));
   if (!odd_parity()) {
     pending_shift_.reset();
     return false;
