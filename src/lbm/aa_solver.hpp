@@ -13,7 +13,9 @@
 
 #include "lbm/aa_kernel.hpp"
 #include "lbm/aa_populations.hpp"
+#include "lbm/block_exchange.hpp"
 #include "lbm/block_geometry.hpp"
+#include "lbm/block_halo.hpp"
 #include "lbm/block_obstacle.hpp"
 #include "lbm/collision.hpp"
 #include "lbm/force_field.hpp"
@@ -24,7 +26,7 @@
 namespace settle::lbm {
 
 template <Lattice L, class Collision, class Real>
-class AaSolver final : public Solver {
+class AaSolver final : public Solver, public BlockExchange {
  public:
   static constexpr int Q = L::Q;
 
@@ -35,18 +37,18 @@ class AaSolver final : public Solver {
         populations_(geometry_),
         forces_(geometry_.cell_count(), threaded_),
         kernel_(config, threaded_),
+        block_lists_(build_block_lists<L>(layout(), geometry_.face_kinds(), geometry_.split())),
+        halo_(std::move(block_lists_.halo), geometry_),
         inflow_velocity_(config.inflow_velocity),
         obstacle_(geometry_) {
-    BlockLists block = build_block_lists<L>(layout(), geometry_.face_kinds(), geometry_.split());
-    lists_ = std::move(block.local);
-    halo_ = std::move(block.halo);
-    split_rows();
     populations_.zero_fill();
   }
 
   const SolverConfig& config() const override { return config_; }
   std::int64_t step_count() const override { return populations_.step_count(); }
   int velocity_count() const override { return Q; }
+  BlockExchange& block_exchange() override { return *this; }
+  const BlockExchange& block_exchange() const override { return *this; }
 
   void step() override {
     if (!halo_.empty()) {
@@ -56,59 +58,47 @@ class AaSolver final : public Solver {
     end_local();
   }
 
-  std::vector<int> halo_ranks() const override {
-    std::vector<int> ranks;
-    for (const HaloLinks& h : halo_) ranks.push_back(h.rank);
-    return ranks;
-  }
-
+  // --- the exchange protocol (BlockExchange)
+  std::vector<int> halo_ranks() const override { return halo_.ranks(); }
   void begin_step(HaloMessages& messages) override {
     begin_local();
-    pack_messages(messages);
+    halo_.pack(populations_, inflow_velocity_, messages);
   }
-
   void begin_step_faces(HaloMessages& messages) override {
     if (odd_parity()) {
-      kernel_.template run_rows<true>(populations_, forces_, face_rows_);
+      kernel_.template run_rows<true>(populations_, forces_, halo_.face_rows());
     } else {
-      kernel_.template run_rows<false>(populations_, forces_, face_rows_);
+      kernel_.template run_rows<false>(populations_, forces_, halo_.face_rows());
     }
-    pack_messages(messages);
+    halo_.pack(populations_, inflow_velocity_, messages);
   }
-
   void step_interior() override {
     if (odd_parity()) {
-      kernel_.template run_rows<true>(populations_, forces_, interior_rows_);
+      kernel_.template run_rows<true>(populations_, forces_, halo_.interior_rows());
       populations_.template apply<true>(lists_.fold, lists_.fold_shifted, inflow_velocity_);
     } else {
-      kernel_.template run_rows<false>(populations_, forces_, interior_rows_);
+      kernel_.template run_rows<false>(populations_, forces_, halo_.interior_rows());
       populations_.template apply<false>(lists_.fill, lists_.fill_shifted, inflow_velocity_);
     }
   }
-
-  std::vector<std::size_t> halo_receive_counts() const override {
-    std::vector<std::size_t> counts;
-    for (const HaloLinks& h : halo_) counts.push_back(odd_parity() ? h.fold_receive.size() : h.fill_receive.size());
-    return counts;
-  }
-
+  std::vector<std::size_t> halo_receive_counts() const override { return halo_.receive_counts(odd_parity()); }
   bool exchanges_far_values() const override { return !halo_.empty() && obstacle_.rule() == WallRule::quadratic; }
   void far_requests(HaloMessages& messages) const override { obstacle_.far_values().requests(messages, halo_.size()); }
   void take_far_requests(const HaloMessages& messages) override {
-    check_message_count(messages, "take_far_requests");
+    halo_.check_message_count(messages, "take_far_requests");
     obstacle_.far_values().take_requests(messages, {config_.nx, config_.ny, config_.nz}, Q);
   }
   void far_answers(HaloMessages& messages) const override {
     obstacle_.far_values().answers(messages, halo_.size(), populations_);
   }
   void take_far_answers(const HaloMessages& messages) override {
-    check_message_count(messages, "take_far_answers");
+    halo_.check_message_count(messages, "take_far_answers");
     obstacle_.far_values().take_answers(messages, halo_ranks());
   }
 
   void end_step(const HaloMessages& messages) override {
-    check_message_count(messages, "end_step");
-    write_received(messages, odd_parity(), "end_step");
+    halo_.check_message_count(messages, "end_step");
+    halo_.write_received(populations_, messages, odd_parity(), "end_step");
     end_local();
   }
 
@@ -378,28 +368,6 @@ class AaSolver final : public Solver {
     populations_.advance();
   }
 
-  /// Writes what the adjacent blocks sent into the slots of their links: the fold after an odd
-  /// kernel, the fill after an even one.
-  void write_received(const HaloMessages& messages, bool fold, const char* who) {
-    Real* const data = populations_.data();
-    for (std::size_t k = 0; k < halo_.size(); ++k) {
-      const std::vector<std::size_t>& slots = fold ? halo_[k].fold_receive : halo_[k].fill_receive;
-      const std::vector<double>& values = messages.receive[k];
-      if (values.size() != slots.size()) {
-        throw std::invalid_argument(std::string(who) + ": a message of " + std::to_string(values.size()) +
-                                    " values from rank " + std::to_string(halo_[k].rank) + ", expected " +
-                                    std::to_string(slots.size()));
-      }
-      for (std::size_t j = 0; j < slots.size(); ++j) data[slots[j]] = static_cast<Real>(values[j]);
-    }
-  }
-  void check_message_count(const HaloMessages& messages, const char* who) const {
-    if (messages.receive.size() != halo_.size()) {
-      throw std::invalid_argument(std::string(who) + ": " + std::to_string(messages.receive.size()) + " messages for " +
-                                  std::to_string(halo_.size()) + " adjacent blocks");
-    }
-  }
-
   /// A window shift between begin_shift and the last of its exchanges. At an odd parity the
   /// ghosts are rebuilt from the moved content, which loses the populations that wall links
   /// returned into them (BlockObstacle::close writes a link's returning population where its fluid
@@ -431,46 +399,7 @@ class AaSolver final : public Solver {
     pending_shift_.reset();
   }
 
-  void pack_messages(HaloMessages& messages) const {
-    messages.send.resize(halo_.size());
-    for (std::size_t k = 0; k < halo_.size(); ++k) {
-      if (odd_parity()) {
-        pack<true>(halo_[k].send.fold, halo_[k].send.fold_shifted, messages.send[k]);
-      } else {
-        pack<false>(halo_[k].send.fill, halo_[k].send.fill_shifted, messages.send[k]);
-      }
-    }
-  }
-
-  /// The values of a block's send entries (HaloLinks), each as the copy lists would store it.
-  template <bool Odd>
-  void pack(const std::vector<CopyEntry>& list, const std::vector<ShiftedCopyEntry>& shifted,
-            std::vector<double>& message) const {
-    const Real* const data = populations_.data();
-    message.assign(list.size() + shifted.size(), 0.0);
-    for (const CopyEntry& e : list) message[e.dst] = static_cast<double>(data[e.src]);
-    for (const ShiftedCopyEntry& e : shifted)
-      message[e.dst] = static_cast<double>(populations_.template shifted_value<Odd>(e, inflow_velocity_));
-  }
   std::size_t slot(int q, std::size_t cell) const { return populations_.slot(q, cell); }
-
-  /// The rows whose kernel results an adjacent block receives: those within kFaceRows of a face
-  /// the block shares with another block along y or z (a link's source cell is next to the face,
-  /// and an inlet's or outlet's value reads the moments of a cell one further in; a margin of
-  /// three covers both). A block cut along x has a face cell in every row: all rows are face rows.
-  void split_rows() {
-    face_rows_.clear(), interior_rows_.clear();
-    constexpr int kFaceRows = 3;
-    const int ny = config_.ny, nz = config_.nz;
-    const auto shares = [&](std::size_t axis, int side) { return has_block_beyond(axis, side, true); };
-    const bool all_faces = shares(0, 0) || shares(0, 1);
-    for (int z = 0; z < nz; ++z)
-      for (int y = 0; y < ny; ++y) {
-        const bool near = all_faces || (shares(1, 0) && y < kFaceRows) || (shares(1, 1) && y >= ny - kFaceRows) ||
-                          (shares(2, 0) && z < kFaceRows) || (shares(2, 1) && z >= nz - kFaceRows);
-        (near ? face_rows_ : interior_rows_).push_back(y + ny * z);
-      }
-  }
 
   std::array<int, 3> resolve(int x, int y, int z) const { return geometry_.resolve(x, y, z); }
 
@@ -567,12 +496,6 @@ class AaSolver final : public Solver {
     return geometry_.has_block_beyond(a, side, through_wrap);
   }
   std::optional<int> block_beyond(std::size_t a, int side) const { return geometry_.block_beyond(a, side); }
-  std::size_t halo_index(int rank) const {
-    for (std::size_t k = 0; k < halo_.size(); ++k)
-      if (halo_[k].rank == rank) return k;
-    throw std::logic_error("halo: rank " + std::to_string(rank) + " is not an adjacent block");
-  }
-
   /// Coordinates of padded index p (inverse of GridLayout::index).
   std::array<int, 3> padded_coordinates(std::size_t p) const { return geometry_.padded_coordinates(p); }
 
@@ -595,13 +518,11 @@ class AaSolver final : public Solver {
   AaPopulations<L, Real> populations_;
   ForceField<Real> forces_;
   AaKernel<L, Collision, Real> kernel_;
-  CopyLists lists_;
-  std::vector<HaloLinks> halo_;
+  BlockLists block_lists_;  ///< the copy lists of the block's own faces (`local`); `halo` moved to halo_
+  const CopyLists& lists_ = block_lists_.local;
+  BlockHalo<L, Real> halo_;
   Eigen::Vector3d inflow_velocity_;
   BlockObstacle<L, Real> obstacle_;
-  /// A block's rows (y + ny z) near the faces it shares with other blocks, and the rest
-  /// (split_rows).
-  std::vector<int> face_rows_, interior_rows_;
   std::optional<PendingShift> pending_shift_;
 };
 
@@ -654,7 +575,7 @@ ShiftMass AaSolver<L, Collision, Real>::begin_shift(int axis, int sign, HaloMess
   const int leaving = sign > 0 ? 0 : extent[a] - 1;
   const std::optional<int> onward = block_beyond(a, sign > 0 ? 0 : 1);
   messages.send.assign(halo_.size(), {});
-  std::vector<double>* out = onward ? &messages.send[halo_index(*onward)] : nullptr;
+  std::vector<double>* out = onward ? &messages.send[halo_.index_of(*onward)] : nullptr;
   double leaving_sum = 0.0, layer_cells = 0.0;
   for_each_layer_cell(axis, leaving, [&](const std::array<int, 3>& c) {
     const std::size_t cell = layout().index(c[0], c[1], c[2]);
@@ -736,13 +657,13 @@ void AaSolver<L, Collision, Real>::move_layers(int axis, int sign) {
 template <Lattice L, class Collision, class Real>
 bool AaSolver<L, Collision, Real>::end_shift(HaloMessages& messages) {
   if (!pending_shift_) throw std::logic_error("end_shift: no shift has begun");
-  check_message_count(messages, "end_shift");
+  halo_.check_message_count(messages, "end_shift");
   const int axis = pending_shift_->axis, sign = pending_shift_->sign;
   const auto a = static_cast<std::size_t>(axis);
   const std::array<int, 3> extent{config_.nx, config_.ny, config_.nz};
   std::vector<std::size_t> entering_solids;
   if (const std::optional<int> from = block_beyond(a, sign > 0 ? 1 : 0)) {
-    const std::vector<double>& in = messages.receive[halo_index(*from)];
+    const std::vector<double>& in = messages.receive[halo_.index_of(*from)];
     const std::size_t layer_values = static_cast<std::size_t>(Q + 1) * static_cast<std::size_t>(extent[(a + 1) % 3]) *
                                      static_cast<std::size_t>(extent[(a + 2) % 3]);
     if (in.size() < layer_values || (in.size() - layer_values) % 5 != 0) {
@@ -774,17 +695,15 @@ bool AaSolver<L, Collision, Real>::end_shift(HaloMessages& messages) {
     restore_returns();
     return false;
   }
-  messages.send.resize(halo_.size());
-  for (std::size_t k = 0; k < halo_.size(); ++k)
-    pack<false>(halo_[k].send.fill, halo_[k].send.fill_shifted, messages.send[k]);
+  halo_.pack_fill(populations_, inflow_velocity_, messages);
   return true;
 }
 
 template <Lattice L, class Collision, class Real>
 void AaSolver<L, Collision, Real>::end_ghost_refresh(const HaloMessages& messages) {
   if (!pending_shift_) throw std::logic_error("end_ghost_refresh: no shift is waiting for its ghosts");
-  check_message_count(messages, "end_ghost_refresh");
-  write_received(messages, false, "end_ghost_refresh");
+  halo_.check_message_count(messages, "end_ghost_refresh");
+  halo_.write_received(populations_, messages, false, "end_ghost_refresh");
   restore_returns();
 }
 

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "lbm/aa_populations.hpp"
+#include "lbm/block_exchange.hpp"
 #include "lbm/block_geometry.hpp"
 #include "lbm/lattice.hpp"
-#include "lbm/solver.hpp"
 
 namespace settle::lbm {
 
