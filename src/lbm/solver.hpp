@@ -1,7 +1,7 @@
 #pragma once
 // The fluid solver's run-time interface. One virtual call per step (or per query); the hot
-// loop lives in AaSolver<Lattice, Collision, Real> (lbm/aa_solver.hpp), instantiated for
-// every combination by make_solver().
+// loop lives in AaKernel (lbm/aa_kernel.hpp), a part of AaSolver<Lattice, Collision, Real>
+// (lbm/aa_solver.hpp), instantiated for every combination by make_solver().
 //
 // Cell coordinates (x, y, z) are interior cell indices, 0 <= x < nx etc.; cell (x, y, z)
 // has its centre at (x + 1/2, y + 1/2, z + 1/2) in lattice units, so half-way walls lie at
