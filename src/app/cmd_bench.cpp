@@ -188,7 +188,7 @@ nlohmann::json run_kernel_bench(const BenchOptions& o) {
   figures.block_cells = cells;
   const double bytes = static_cast<double>(solver->bytes_per_cell_update());
   // The two AA kernels are timed apart as well: the even step touches only each cell's own
-  // slots, the odd step its neighbours' (lbm/aa_solver.hpp), so their difference is the cost of
+  // slots, the odd step its neighbours' (lbm/aa_kernel.hpp), so their difference is the cost of
   // the neighbour access pattern.
   std::vector<double> round_seconds, round_mlups, parity_mlups[2];
   const BracketedRounds bracket = run_bracketed_rounds(

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "coupling/lattice_view.hpp"
+#include "parallel/lattice_steps.hpp"
 
 namespace settle::coupling {
 namespace {
@@ -267,7 +268,7 @@ std::unordered_map<std::size_t, MomentumExchangeCoupling::NeighbourCell> Momentu
         const auto w = view.wrap({box.origin[0] + i, box.origin[1] + j, box.origin[2] + k});
         if (w && seen.insert(view.index(*w)).second) box_cells.push_back(*w);
       }
-  const std::vector<int> neighbours = fluid.halo_ranks();
+  const std::vector<int> neighbours = parallel::neighbour_ranks(fluid);
   const std::size_t q = static_cast<std::size_t>(fluid.velocity_count());
   std::vector<std::vector<double>> send(neighbours.size()), receive;
   std::vector<double> f_neq(q);

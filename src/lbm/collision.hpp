@@ -18,7 +18,7 @@
 // matching rates for TRT, and as S_i/2 after the regularised relaxation (see RR below).
 //
 // Every function is force-inlined and loops over the compile-time velocity set with full
-// unrolling, so that inside the kernel's vectorised loop (`GCC ivdep`, lbm/aa_solver.hpp) each
+// unrolling, so that inside the kernel's vectorised loop (`GCC ivdep`, lbm/aa_kernel.hpp) each
 // lattice constant folds away.
 #include <array>
 #include <cmath>

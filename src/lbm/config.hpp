@@ -41,7 +41,7 @@ enum class Precision { float32, float64 };
 /// Storage of the populations when a run does not choose: float. Every figure of the validation set
 /// agrees with double storage within 0.3% (docs/performance.md, "Storage precision"), and a float
 /// population moves half the bytes of the memory-bound kernel. Float storage collides in float
-/// (aa_solver.hpp says why that loses nothing); the rigid body and the coupling compute in double.
+/// (aa_kernel.hpp says why that loses nothing); the rigid body and the coupling compute in double.
 inline constexpr Precision kDefaultPrecision = Precision::float32;
 
 /// Boundary condition of a face. The first three are set per pair of opposite faces

@@ -1,7 +1,7 @@
 #pragma once
 // The fluid solver's run-time interface. One virtual call per step (or per query); the hot
-// loop lives in AaSolver<Lattice, Collision, Real> (lbm/aa_solver.hpp), instantiated for
-// every combination by make_solver().
+// loop lives in AaKernel (lbm/aa_kernel.hpp), a part of AaSolver<Lattice, Collision, Real>
+// (lbm/aa_solver.hpp), instantiated for every combination by make_solver().
 //
 // Cell coordinates (x, y, z) are interior cell indices, 0 <= x < nx etc.; cell (x, y, z)
 // has its centre at (x + 1/2, y + 1/2, z + 1/2) in lattice units, so half-way walls lie at
@@ -111,7 +111,7 @@ struct WallLink {
 /// - quadratic: their quadratic interpolation, from three points along the link, where x - c_i and
 ///   x - 2 c_i are fluid cells of the lattice (else the linear rule). On a split lattice a link
 ///   whose x - c_i is a ghost reads its third value from the block that holds that cell (the far
-///   values, exchanged around the step: Solver::exchanges_far_values).
+///   values, exchanged around the step: BlockExchange::exchanges_far_values).
 /// - central_linear: Ginzburg's central linear interpolation (CLI; Ginzburg, Verhaeghe and
 ///   d'Humieres 2008, Commun. Comput. Phys. 3, 427), one formula for every q from f*_i at x and
 ///   x - c_i and f*_opp(i) at x, second order; where x - c_i is not fluid, half-way at that link.
@@ -137,12 +137,9 @@ struct Obstacle {
   std::vector<std::array<int, 3>> far_solid_cells;
 };
 
-/// The messages of one step between a block of a split lattice (SolverConfig::split) and the
-/// blocks adjacent to it, one per Solver::halo_ranks() entry and in that order: begin_step()
-/// fills `send`, end_step() reads `receive` (what each of those blocks sent to this one).
-struct HaloMessages {
-  std::vector<std::vector<double>> send, receive;
-};
+/// The exchange protocol of a block of a split lattice (lbm/block_exchange.hpp, which only the
+/// parallel module includes).
+class BlockExchange;
 
 /// Initial condition: density and velocity of interior cell (x, y, z).
 using InitialField = std::function<CellState(int x, int y, int z)>;
@@ -172,33 +169,11 @@ class Solver {
   }
   virtual std::int64_t step_count() const = 0;
 
-  // --- a block of a split lattice (lbm/decomposition.hpp). Its step comes in two halves around the
-  // exchange of HaloMessages with the adjacent blocks: begin_step runs the kernel and the copies of
-  // the block's own faces and fills messages.send; end_step writes messages.receive into the block
-  // and finishes the step. step() refuses to run when the block has neighbours.
-  /// The ranks of the adjacent blocks the block exchanges with (ascending; empty when unsplit).
-  virtual std::vector<int> halo_ranks() const = 0;
-  virtual void begin_step(HaloMessages& messages) = 0;
-  virtual void end_step(const HaloMessages& messages) = 0;
-  /// begin_step in two parts, so that the messages can travel while the interior is updated:
-  /// begin_step_faces runs the kernel on the rows near the faces shared with other blocks and fills
-  /// messages.send; step_interior runs it on the other rows and copies the block's own faces. The
-  /// result is begin_step's, bit for bit.
-  virtual void begin_step_faces(HaloMessages& messages) = 0;
-  virtual void step_interior() = 0;
-  /// The length of the message each halo_ranks() entry sends this block in the coming step.
-  virtual std::vector<std::size_t> halo_receive_counts() const = 0;
-  /// The quadratic wall rule's far values (see WallRule): when true (a split block whose obstacle
-  /// uses the quadratic rule; the same on every block), the step takes two more exchanges with
-  /// the halo_ranks(). Before begin_step_faces: far_requests fills send with what this block needs
-  /// of each adjacent one, take_far_requests keeps what they need of it. After the kernel and the
-  /// halo messages, before end_step: far_answers fills send with the values asked for,
-  /// take_far_answers writes what came back where the links read it.
-  virtual bool exchanges_far_values() const = 0;
-  virtual void far_requests(HaloMessages& messages) const = 0;
-  virtual void take_far_requests(const HaloMessages& messages) = 0;
-  virtual void far_answers(HaloMessages& messages) const = 0;
-  virtual void take_far_answers(const HaloMessages& messages) = 0;
+  /// A block of a split lattice (lbm/decomposition.hpp) steps and shifts in halves around its
+  /// exchanges with the adjacent blocks: parallel::step and parallel::shift drive them through this
+  /// (lbm/block_exchange.hpp). step() and shift() refuse to run on a block with neighbours.
+  virtual BlockExchange& block_exchange() = 0;
+  virtual const BlockExchange& block_exchange() const = 0;
 
   /// Sets every cell to the equilibrium of the given density and velocity. The stored
   /// momentum is rho u - F/2 with the force present now, so that velocity() returns u.
@@ -210,17 +185,9 @@ class Solver {
   /// that leaves is dropped, the entering layer is fluid at rest at density 1 (the rest
   /// equilibrium is symmetric, so it is valid at either AA parity). Forces are not shifted.
   /// Solid cells move with the content (those that leave are dropped); the obstacle's links are
-  /// dropped, to be set again at its new place. Refuses a block with neighbours (std::logic_error).
+  /// dropped, to be set again at its new place. Refuses a block with neighbours (std::logic_error):
+  /// those shift through parallel::shift.
   virtual ShiftMass shift(int axis, int sign) = 0;
-  /// The same on a block of a split lattice, around its exchanges: begin_shift moves the block's
-  /// content and fills messages.send (the leaving layer, for the adjacent block it enters); after
-  /// the exchange end_shift writes the entering layer. At an odd parity the ghosts must then be
-  /// rebuilt from the adjacent blocks' new faces: end_shift returns true and has filled
-  /// messages.send again; after that exchange end_ghost_refresh finishes the shift. The mass is
-  /// this block's share: the layer that left the lattice here, the rest fluid that entered here.
-  virtual ShiftMass begin_shift(int axis, int sign, HaloMessages& messages) = 0;
-  virtual bool end_shift(HaloMessages& messages) = 0;
-  virtual void end_ghost_refresh(const HaloMessages& messages) = 0;
 
   /// Total mass sum(rho) over the interior cells (exact to round-off at either parity).
   virtual double total_mass() const = 0;

@@ -2,9 +2,12 @@
 
 #include <vector>
 
+#include "lbm/block_exchange.hpp"
+
 namespace settle::parallel {
 
-void step(lbm::Solver& block, Communicator& communicator) {
+void step(lbm::Solver& solver, Communicator& communicator) {
+  lbm::BlockExchange& block = solver.block_exchange();
   lbm::HaloMessages messages, far;
   const std::vector<int> neighbours = block.halo_ranks();
   const bool far_values = block.exchanges_far_values();
@@ -25,7 +28,8 @@ void step(lbm::Solver& block, Communicator& communicator) {
   block.end_step(messages);
 }
 
-lbm::ShiftMass shift(lbm::Solver& block, int axis, int sign, Communicator& communicator) {
+lbm::ShiftMass shift(lbm::Solver& solver, int axis, int sign, Communicator& communicator) {
+  lbm::BlockExchange& block = solver.block_exchange();
   lbm::HaloMessages messages;
   const std::vector<int> neighbours = block.halo_ranks();
   const lbm::ShiftMass mine = block.begin_shift(axis, sign, messages);
@@ -37,5 +41,7 @@ lbm::ShiftMass shift(lbm::Solver& block, int axis, int sign, Communicator& commu
   const std::vector<double> total = sum_in_rank_order(communicator, {mine.left, mine.entered});
   return {total[0], total[1]};
 }
+
+std::vector<int> neighbour_ranks(const lbm::Solver& block) { return block.block_exchange().halo_ranks(); }
 
 }  // namespace settle::parallel

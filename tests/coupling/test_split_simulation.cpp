@@ -158,7 +158,7 @@ TEST(SplitSimulation, TheMomentumExchangeOnTwoThreeAndFourRanksMovesBitForBitAsI
 }
 
 // The quadratic wall rule reads two cells behind a link, beyond a block's halo: those values come from
-// the block that holds them (lbm::Solver::exchanges_far_values), so the split changes nothing.
+// the block that holds them (lbm::BlockExchange::exchanges_far_values), so the split changes nothing.
 TEST(SplitSimulation, TheQuadraticWallRuleOnTwoThreeAndFourRanksMovesBitForBitAsInOneProcess) {
   expect_split_runs_as_one_process(CouplingKind::momentum_exchange, lbm::WallRule::quadratic);
 }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "lbm/block_exchange.hpp"
 #include "lbm/decomposition.hpp"
 #include "lbm/solver.hpp"
 #include "support/halo_cases.hpp"
@@ -104,17 +105,17 @@ TEST(Halo, ALostMessageIsSeen) {
   auto b0 = make_solver(c0), b1 = make_solver(c1);
   b0->initialise(initial_state);
   b1->initialise([&](int x, int y, int z) { return initial_state(x, y, z + s.offset(1)[2]); });
-  ASSERT_EQ(b0->halo_ranks(), std::vector<int>{1});
-  ASSERT_EQ(b1->halo_ranks(), std::vector<int>{0});
+  ASSERT_EQ(b0->block_exchange().halo_ranks(), std::vector<int>{1});
+  ASSERT_EQ(b1->block_exchange().halo_ranks(), std::vector<int>{0});
   HaloMessages m0, m1;
   for (int step = 0; step < 2; ++step) {
     whole->step();
-    b0->begin_step(m0);
-    b1->begin_step(m1);
+    b0->block_exchange().begin_step(m0);
+    b1->block_exchange().begin_step(m1);
     m0.receive = {std::vector<double>(m1.send[0].size(), 0.0)};
     m1.receive = {m0.send[0]};
-    b0->end_step(m0);
-    b1->end_step(m1);
+    b0->block_exchange().end_step(m0);
+    b1->block_exchange().end_step(m1);
   }
   const int differing = halo::differing_populations(*whole, *b0, {0, 0, 0});
   EXPECT_GT(differing, 0);
@@ -131,7 +132,7 @@ TEST(Halo, BlockRefusesWhatWouldSkipAnExchange) {
   EXPECT_THROW(block->step(), std::logic_error);       // it would skip the exchange
   EXPECT_THROW(block->shift(2, 1), std::logic_error);  // likewise
   HaloMessages none;
-  EXPECT_THROW(block->end_shift(none), std::logic_error);  // no shift begun
+  EXPECT_THROW(block->block_exchange().end_shift(none), std::logic_error);  // no shift begun
   // Rank 0's lower z face is a no-slip wall of the lattice: no ghost cell of a block lies beyond.
   Obstacle obstacle;
   obstacle.solid_cells = {{1, 1, -1}};
@@ -140,8 +141,8 @@ TEST(Halo, BlockRefusesWhatWouldSkipAnExchange) {
   EXPECT_NO_THROW(block->set_obstacle(obstacle));
   EXPECT_EQ(block->solid_cell_count(), 0u);  // a ghost is not one of the block's cells
   HaloMessages wrong;                        // no message for the one neighbour
-  block->begin_step(wrong);
-  EXPECT_THROW(block->end_step(HaloMessages{}), std::invalid_argument);
+  block->block_exchange().begin_step(wrong);
+  EXPECT_THROW(block->block_exchange().end_step(HaloMessages{}), std::invalid_argument);
   // A block whose extent is not its share of the split.
   cfg.nz += 1;
   EXPECT_THROW(make_solver(cfg), settle::InputError);
@@ -157,7 +158,7 @@ std::vector<int> halo_ranks_of(const FaceSet& faces, const std::array<int, 3>& b
   cfg.split = s;
   const std::array<int, 3> n = s.extent(rank);
   cfg.nx = n[0], cfg.ny = n[1], cfg.nz = n[2];
-  return make_solver(cfg)->halo_ranks();
+  return make_solver(cfg)->block_exchange().halo_ranks();
 }
 
 TEST(Halo, BlocksExchangeOnlyWithTheBlocksTheyShareLinksWith) {

@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "lbm/block_exchange.hpp"
 #include "lbm/decomposition.hpp"
 #include "lbm/solver.hpp"
 #include "support/halo_cases.hpp"
@@ -80,7 +81,7 @@ std::size_t far_values_asked(SplitLattice& split) {
   std::size_t asked = 0;
   for (int r = 0; r < split.block_count(); ++r) {
     HaloMessages m;
-    split.block(r).far_requests(m);
+    split.block(r).block_exchange().far_requests(m);
     for (const auto& values : m.send) asked += values.size() / 4;
   }
   return asked;
@@ -130,7 +131,7 @@ void expect_same_as_unsplit(const SolverConfig& cfg, const std::array<int, 3>& b
 Sphere straddling() { return {Eigen::Vector3d(3.1, 2.85, 5.2), 1.8}; }
 
 // With the quadratic rule a link whose second node is a ghost reads its third value from the block
-// that holds it (Solver::exchanges_far_values): the same value the unsplit lattice reads.
+// that holds it (BlockExchange::exchanges_far_values): the same value the unsplit lattice reads.
 TEST(HaloObstacle, BlocksWithABodyStepAndShiftBitForBitAsTheUnsplitLattice) {
   // Shifts at both parities (after an odd and an even step count), along the split axes and across
   // them, both directions.

@@ -120,7 +120,7 @@ TEST(LbmPoiseuille, FloatStorageMatchesDouble) {
     diff2 += (single.u[j] - reference.u[j]) * (single.u[j] - reference.u[j]);
     ref2 += reference.u[j] * reference.u[j];
   }
-  // Float storage and float arithmetic (AaSolver::Arith): each step rounds the velocity
+  // Float storage and float arithmetic (AaKernel::Arith): each step rounds the velocity
   // update to ~1e-7 relative (a few float operations on u ~ 1e-2). The steady state sums
   // these over the diffusion time H^2 / (pi^2 nu) ~ 2600 steps: ~5e-6 if they were random,
   // at most ~2.6e-4 if fully systematic. 3e-4 is that bound; an error in the float path

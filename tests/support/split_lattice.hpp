@@ -1,7 +1,7 @@
 #pragma once
 // The blocks of a split lattice stepped together in one process (tests/lbm/test_halo*.cpp): each
-// block's messages go to the blocks named in its halo_ranks(), as an MPI exchange would deliver
-// them. A test may tamper with the messages in transit (a control that must be seen).
+// block's messages go to the blocks named in its halo_ranks() (lbm/block_exchange.hpp), as an MPI
+// exchange would deliver them. A test may tamper with the messages in transit (a control that must be seen).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "lbm/block_exchange.hpp"
 #include "lbm/decomposition.hpp"
 #include "lbm/solver.hpp"
 #include "support/halo_cases.hpp"
@@ -40,39 +41,41 @@ class SplitLattice {
   /// One step of every block as parallel::step takes it: the face rows and the messages, then the
   /// interior while the messages are (here: have been) delivered, then the rest.
   void step() {
-    const bool far = solvers_.front()->exchanges_far_values();
+    const bool far = solvers_.front()->block_exchange().exchanges_far_values();
     std::vector<lbm::HaloMessages> far_messages(solvers_.size());
     if (far) {
-      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->far_requests(far_messages[r]);
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().far_requests(far_messages[r]);
       deliver(far_messages);
-      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->take_far_requests(far_messages[r]);
+      for (std::size_t r = 0; r < solvers_.size(); ++r)
+        solvers_[r]->block_exchange().take_far_requests(far_messages[r]);
     }
-    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->begin_step_faces(messages_[r]);
+    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().begin_step_faces(messages_[r]);
     deliver(messages_);
-    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->step_interior();
+    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().step_interior();
     if (far) {
-      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->far_answers(far_messages[r]);
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().far_answers(far_messages[r]);
       deliver(far_messages);
-      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->take_far_answers(far_messages[r]);
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().take_far_answers(far_messages[r]);
     }
-    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->end_step(messages_[r]);
+    for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().end_step(messages_[r]);
   }
 
   /// The moving window across the blocks; the blocks' masses summed in rank order.
   lbm::ShiftMass shift(int axis, int sign, const Tamper& tamper = {}) {
     lbm::ShiftMass total;
     for (std::size_t r = 0; r < solvers_.size(); ++r) {
-      const lbm::ShiftMass m = solvers_[r]->begin_shift(axis, sign, messages_[r]);
+      const lbm::ShiftMass m = solvers_[r]->block_exchange().begin_shift(axis, sign, messages_[r]);
       total.left += m.left, total.entered += m.entered;
     }
     deliver(messages_, tamper);
     int refresh = 0;
-    for (std::size_t r = 0; r < solvers_.size(); ++r) refresh += solvers_[r]->end_shift(messages_[r]) ? 1 : 0;
+    for (std::size_t r = 0; r < solvers_.size(); ++r)
+      refresh += solvers_[r]->block_exchange().end_shift(messages_[r]) ? 1 : 0;
     // Every block of a split needs the ghost exchange at an odd parity, none at an even one.
     EXPECT_TRUE(refresh == 0 || refresh == static_cast<int>(solvers_.size())) << refresh << " blocks ask for it";
     if (refresh > 0) {
       deliver(messages_);
-      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->end_ghost_refresh(messages_[r]);
+      for (std::size_t r = 0; r < solvers_.size(); ++r) solvers_[r]->block_exchange().end_ghost_refresh(messages_[r]);
     }
     return total;
   }
@@ -85,10 +88,10 @@ class SplitLattice {
  private:
   void deliver(std::vector<lbm::HaloMessages>& messages, const Tamper& tamper = {}) {
     for (std::size_t r = 0; r < solvers_.size(); ++r) {
-      const std::vector<int> from = solvers_[r]->halo_ranks();
+      const std::vector<int> from = solvers_[r]->block_exchange().halo_ranks();
       messages[r].receive.resize(from.size());
       for (std::size_t k = 0; k < from.size(); ++k) {
-        const std::vector<int> theirs = solvers_[static_cast<std::size_t>(from[k])]->halo_ranks();
+        const std::vector<int> theirs = solvers_[static_cast<std::size_t>(from[k])]->block_exchange().halo_ranks();
         const auto at = std::find(theirs.begin(), theirs.end(), static_cast<int>(r));
         ASSERT_NE(at, theirs.end()) << "rank " << from[k] << " does not list rank " << r << " back";
         messages[r].receive[k] =
