@@ -221,7 +221,15 @@ double Superellipsoid::surface_crossing(const Eigen::Vector3d& outside, const Ei
     t += step;
     if (step < kLastStep) return t;
   }
-  return Shape::surface_crossing(outside, inside);
+  // Round-off at a sharp edge stopped Newton (rare): bisect the inside test from the last outside
+  // point, to round-off, so that the crossing keeps Newton's accuracy there too.
+  double lo = t, hi = 1.0;
+  for (int iteration = 0; iteration < 64; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid == lo || mid == hi) break;
+    (contains(outside + mid * along) ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 Eigen::Vector3d Superellipsoid::outward_normal(const Eigen::Vector3d& surface_point) const {
