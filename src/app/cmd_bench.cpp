@@ -67,6 +67,8 @@ lbm::SolverConfig kernel_config(const BenchOptions& o, parallel::Communicator& w
   c.lattice = lbm::parse_lattice(o.lattice, "--lattice");
   c.collision = lbm::parse_collision(o.collision, "--collision");
   c.subgrid = lbm::parse_subgrid_model(o.subgrid, "--subgrid");
+  if (c.subgrid == lbm::SubgridModel::automatic)
+    throw InputError("--subgrid: none or smagorinsky (auto chooses from a case's cell Reynolds number; give --case)");
   c.smagorinsky_constant = o.smagorinsky_constant;
   c.precision = lbm::parse_precision(o.precision, "--precision");
   c.nx = c.ny = c.nz = o.size;
@@ -331,7 +333,7 @@ nlohmann::json run_case_bench(const BenchOptions& o) {
   j["coupling"] = coupling::to_string(sim.setup().coupling);
   j["lattice"] = lbm::to_string(sim.setup().lattice);
   j["collision"] = lbm::to_string(sim.setup().collision);
-  j["subgrid_model"] = lbm::to_string(sim.setup().subgrid_model);
+  j["subgrid_model"] = lbm::to_string(sim.plan().subgrid_model);
   j["precision"] = lbm::to_string(sim.setup().precision);
   j["threads"] = omp_get_max_threads();
   j["steps"] = steps;

@@ -178,6 +178,9 @@ nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResu
   j["dt"] = p.units.dt_si();
   j["tau"] = p.units.tau();
   j["mach"] = p.mach;
+  j["cell_reynolds"] = p.cell_reynolds;
+  // The model the run used: numerics.subgrid_model = "auto" resolved (lbm::chosen_subgrid_model).
+  j["subgrid_model"] = lbm::to_string(p.subgrid_model);
   j["equivalent_diameter"] = p.equivalent_diameter_si;
   j["markers"] = d.marker_count;
   j["steps"] = result.steps;
@@ -449,9 +452,9 @@ void run_case(const RunOptions& options) {
   const auto& p = sim.plan();
   console.info(
       fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
-                  "grid {}x{}x{}, {} {}, {} threads",
+                  "grid {}x{}x{}, {}, {} {}, {} threads",
                   name, p.units.dx_si(), p.units.dt_si(), p.units.tau(), p.mach, p.reynolds, p.galileo, d.cells[0],
-                  d.cells[1], d.cells[2], d.marker_count,
+                  d.cells[1], d.cells[2], operator_text(sim.setup(), p), d.marker_count,
                   sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)", omp_get_max_threads()));
 
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));

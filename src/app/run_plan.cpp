@@ -17,16 +17,17 @@ namespace {
 // Throughput (cell updates per second) of the fluid kernel alone with the case's lattice,
 // collision model and precision, on a periodic grid of 96^3 cells: larger than the caches, so
 // bound by memory as a real case is. Ten timed steps after two that touch every page.
-double measured_kernel_updates_per_second(const coupling::SimulationSetup& s, double tau) {
+double measured_kernel_updates_per_second(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
   constexpr int kSide = 96, kWarmSteps = 2, kTimedSteps = 10;
   lbm::SolverConfig config;
   config.lattice = s.lattice;
   config.collision = s.collision;
-  config.subgrid = s.subgrid_model;
+  config.subgrid = plan.subgrid_model;
+  config.smagorinsky_constant = s.smagorinsky_constant;
   config.precision = s.precision;
   config.nx = config.ny = config.nz = kSide;
   config.boundaries = {lbm::Boundary::periodic, lbm::Boundary::periodic, lbm::Boundary::periodic};
-  config.tau = tau;
+  config.tau = plan.units.tau();
   const auto solver = lbm::make_solver(config);
   solver->initialise([](int, int, int) { return lbm::CellState{}; });
   solver->run(kWarmSteps);
@@ -44,22 +45,27 @@ std::string duration_text(double seconds) {
 
 }  // namespace
 
+std::string operator_text(const coupling::SimulationSetup& s, const coupling::CasePlan& p) {
+  if (p.subgrid_model == lbm::SubgridModel::none) return lbm::to_string(s.collision);
+  const std::string reason =
+      s.subgrid_model == lbm::SubgridModel::automatic
+          ? fmt::format(", auto: cell Re {:.1f} > {:g}", p.cell_reynolds, lbm::kTrtStableCellReynolds)
+          : "";
+  return fmt::format("{} + {} (C_S {:g}{})", lbm::to_string(s.collision), lbm::to_string(p.subgrid_model),
+                     s.smagorinsky_constant, reason);
+}
+
 std::string run_plan_text(const coupling::SimulationSetup& s, const io::PreflightReport& r) {
   const coupling::CasePlan& p = r.plan;
-  const double rate = measured_kernel_updates_per_second(s, p.units.tau());
+  const double rate = measured_kernel_updates_per_second(s, p);
   const double wall_s = r.steps * r.cell_count / rate;
   std::string text = fmt::format("plan of {} (--dry-run: nothing was run or written)\n", s.name);
   text += fmt::format("  units     dx = {:.4g} m ({:g} cells per d_eq = {:.4g} m), dt = {:.4g} s, tau = {:.4f}\n",
                       p.units.dx_si(), s.cells_per_diameter, p.equivalent_diameter_si, p.units.dt_si(), p.units.tau());
   text += fmt::format("  flow      expected speed {:.4g} m/s: Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}\n",
                       p.expected_speed_si, p.mach, p.reynolds, p.galileo);
-  const std::string subgrid =
-      s.subgrid_model == lbm::SubgridModel::none
-          ? ""
-          : fmt::format(" + {} (C_S {:g})", lbm::to_string(s.subgrid_model), s.smagorinsky_constant);
-  text += fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}{}, {}\n", r.cells[0], r.cells[1], r.cells[2],
-                      r.cell_count, lbm::to_string(s.lattice), lbm::to_string(s.collision), subgrid,
-                      lbm::to_string(s.precision));
+  text += fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}, {}\n", r.cells[0], r.cells[1], r.cells[2],
+                      r.cell_count, lbm::to_string(s.lattice), operator_text(s, p), lbm::to_string(s.precision));
   text += fmt::format("  run       end time {:.4g} s = {:.0f} steps\n", s.end_time_si, r.steps);
   text += fmt::format("  body      {}, about {:.3g} surface cells (area / dx^2)\n", coupling::to_string(s.coupling),
                       s.shape->surface_area() / (p.units.dx_si() * p.units.dx_si()));

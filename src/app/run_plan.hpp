@@ -3,6 +3,7 @@
 // with an estimate of the wall time, printed without running and without writing anything.
 #include <string>
 
+#include "coupling/case_plan.hpp"
 #include "coupling/setup.hpp"
 #include "io/preflight.hpp"
 
@@ -10,6 +11,10 @@ namespace settle::app {
 
 /// The plan's lines: units, grid, steps, the body on the grid, memory, and the wall time the
 /// fluid kernel alone would take at the throughput measured now on this machine.
+/// The collision operator and the subgrid model the run uses, e.g. "trt + smagorinsky (C_S 0.1,
+/// auto: cell Re 70.7 > 20)": the plan's choice, with the reason when "auto" made it.
+std::string operator_text(const coupling::SimulationSetup& setup, const coupling::CasePlan& plan);
+
 std::string run_plan_text(const coupling::SimulationSetup& setup, const io::PreflightReport& report);
 
 }  // namespace settle::app

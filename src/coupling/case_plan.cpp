@@ -101,6 +101,8 @@ CasePlan plan_case(const SimulationSetup& s) {
   plan.equivalent_diameter_si = s.shape->equivalent_diameter();
   plan.mach = mach_number(units.velocity(expected));
   plan.reynolds = expected * plan.equivalent_diameter_si / units.kinematic_viscosity_si();
+  plan.cell_reynolds = expected * units.dx_si() / units.kinematic_viscosity_si();
+  plan.subgrid_model = lbm::chosen_subgrid_model(s.subgrid_model, s.collision, plan.cell_reynolds);
   plan.galileo = galileo_number(plan.equivalent_diameter_si, s.particle_density_si, s.fluid_density_si,
                                 units.kinematic_viscosity_si(), s.gravity_si.norm());
   for (int a = 0; a < 3; ++a) plan.cells[static_cast<std::size_t>(a)] = std::round(s.domain_size_si[a] / units.dx_si());

@@ -32,6 +32,9 @@ struct CasePlan {
   double reynolds = 0.0;           ///< expected speed x d_eq / nu
   double galileo = 0.0;
   double equivalent_diameter_si = 0.0;
+  double cell_reynolds = 0.0;  ///< expected speed x dx / nu
+  /// The subgrid model the run uses (numerics.subgrid_model = "auto" chosen from cell_reynolds).
+  lbm::SubgridModel subgrid_model = lbm::SubgridModel::none;
   /// round(size / dx) per axis, as doubles so that an absurd request is reported, not overflowed.
   std::array<double, 3> cells{};
   double steps = 0.0;             ///< steps to reach run.end_time (time_control.hpp's count)

@@ -6,6 +6,8 @@
 
 #include <fmt/core.h>
 
+#include "lbm/config.hpp"
+
 namespace settle::coupling {
 namespace {
 
@@ -51,8 +53,72 @@ std::string describe(const Simulation& sim, const Place& p) {
       p.inside_particle ? " (inside the particle)" : "", p.cells_to_face);
 }
 
+/// The flow's scale now: the body's speed against the one dt was chosen for, and the cell
+/// Reynolds number of the faster of the two, the figure that decides whether the wake is resolved.
+struct FlowScale {
+  double body_speed_si = 0.0;
+  double expected_speed_si = 0.0;
+  double cell_reynolds = 0.0;
+};
+
+// A body this much faster than the speed dt was chosen for has raised the lattice velocity by as
+// much; below it the speed is not what broke the run.
+constexpr double kFasterThanPlanned = 1.2;
+// Beyond this the body's speed is a product of the divergence, not its cause: the terminal-speed
+// estimate errs by tens of percent for irregular shapes, not by a factor of three.
+constexpr double kPlausiblyFaster = 3.0;
+
+FlowScale flow_scale(const Simulation& sim) {
+  const UnitConverter& units = sim.plan().units;
+  FlowScale f{sim.body().state().velocity_si.norm(), sim.plan().expected_speed_si, 0.0};
+  const bool plausible = f.body_speed_si <= kPlausiblyFaster * f.expected_speed_si;
+  const double speed = plausible ? std::max(f.body_speed_si, f.expected_speed_si) : f.expected_speed_si;
+  f.cell_reynolds = speed * units.dx_si() / units.kinematic_viscosity_si();
+  return f;
+}
+
+bool outran_plan(const FlowScale& f) {
+  return f.body_speed_si > kFasterThanPlanned * f.expected_speed_si &&
+         f.body_speed_si <= kPlausiblyFaster * f.expected_speed_si;
+}
+
+/// The likely cause of a fluid that left its bounds, from the flow's scale and the numerics, with
+/// the change that addresses it. Each branch names a change that moves the figure it blames:
+/// lowering the lattice velocity moves tau towards 1/2 but leaves the cell Reynolds number as it
+/// is, so it is advised only where the body outran its plan.
+std::string flow_cause(const Simulation& sim) {
+  const FlowScale f = flow_scale(sim);
+  const double tau = sim.units().tau();
+  const double design = sim.setup().max_lattice_velocity;
+  if (outran_plan(f))
+    return fmt::format(
+        "the particle moves at {:.4g} m/s, faster than the {:.4g} m/s dt was chosen for, so the lattice velocity "
+        "reached {:.3f}; lower numerics.max_lattice_velocity to {:.3g}",
+        f.body_speed_si, f.expected_speed_si, design * f.body_speed_si / f.expected_speed_si,
+        design * f.expected_speed_si / f.body_speed_si);
+  const double cells_needed = std::ceil(sim.setup().cells_per_diameter * f.cell_reynolds / lbm::kTrtStableCellReynolds);
+  const std::string scale = fmt::format(
+      "a wake under-resolved at the cell Reynolds number U dx / nu = {:.1f} (tau {:.4f})", f.cell_reynolds, tau);
+  const lbm::SubgridModel subgrid = sim.plan().subgrid_model;
+  if (sim.setup().collision == lbm::CollisionKind::trt && subgrid == lbm::SubgridModel::none &&
+      f.cell_reynolds > lbm::kTrtStableCellReynolds)
+    return fmt::format(
+        "{}, above {:g}, where TRT without a subgrid model diverged on settling spheres (docs/lbm.md); set "
+        "numerics.subgrid_model = \"auto\" (Smagorinsky's model there), or raise numerics.cells_per_diameter to "
+        "{:.0f}; "
+        "a lower numerics.max_lattice_velocity does not help (it leaves the cell Reynolds number unchanged)",
+        scale, lbm::kTrtStableCellReynolds, cells_needed);
+  if (f.cell_reynolds > lbm::kTrtStableCellReynolds)
+    return fmt::format("{}; raise numerics.cells_per_diameter (to {:.0f} for a cell Reynolds number of {:g})", scale,
+                       cells_needed, lbm::kTrtStableCellReynolds);
+  return fmt::format(
+      "an impulsive start or a local jet at lattice velocity {:.3f} (planned for {:.4g} m/s, cell Reynolds number "
+      "{:.1f}); lower numerics.max_lattice_velocity, e.g. to {:.3g}, or raise numerics.cells_per_diameter",
+      design, f.expected_speed_si, f.cell_reynolds, 0.6 * design);
+}
+
 /// Why the density left its range: the pressure held inside a body with interior markers, the
-/// viscous pressure of a thin gap at large tau, or the flow's own speed.
+/// viscous pressure of a thin gap at large tau, or the flow's own scale.
 std::string density_cause(const Simulation& sim, const Place& place) {
   // The lattice pressure is c_s^2 (rho - 1). Its inertial part scales with u^2, its viscous part
   // with (tau - 0.5) u / L: in a thin gap (a particle nearing a wall, L the gap) the viscous part
@@ -69,7 +135,7 @@ std::string density_cause(const Simulation& sim, const Place& place) {
         "with (tau - 0.5) x lattice velocity; lower numerics.max_tau (a smaller dt), e.g. to 1.0, or "
         "numerics.max_lattice_velocity",
         tau);
-  return "too large a lattice velocity or an impulsive start; lower numerics.max_lattice_velocity";
+  return flow_cause(sim);
 }
 
 }  // namespace
@@ -80,18 +146,14 @@ HealthReport check_health(const Simulation& sim, const HealthLimits& limits) {
   const lbm::FieldExtrema e = measure_fluid(sim, r);
   const double design_speed = sim.setup().max_lattice_velocity;
   if (!r.finite) {
-    r.problem = fmt::format(
-        "NaN or infinity in the {} (the fluid diverged). Likely cause: relaxation time too close to 0.5 for the "
-        "resolution (tau = {:.4f}) or a particle much faster than expected; raise numerics.cells_per_diameter, "
-        "lower numerics.max_lattice_velocity, or use numerics.collision = \"recursive_regularized\"",
-        body_finite(sim) ? "fluid" : "particle state", sim.units().tau());
+    r.problem = fmt::format("NaN or infinity in the {} (the fluid diverged). Likely cause: {}",
+                            body_finite(sim) ? "fluid" : "particle state", flow_cause(sim));
   } else if (r.max_lattice_speed > limits.max_lattice_speed) {
     r.problem = fmt::format(
         "largest fluid speed {:.3f} in lattice units (Mach {:.2f}) exceeds {:.2f}; dt was chosen for {:.3f}; {}. "
-        "Likely cause: the particle falls faster than the terminal-velocity estimate ({:.4g} m/s); lower "
-        "numerics.max_lattice_velocity",
+        "Likely cause: {}",
         r.max_lattice_speed, r.max_lattice_speed * std::sqrt(3.0), limits.max_lattice_speed, design_speed,
-        describe(sim, place_of(sim, e.max_speed_cell)), sim.plan().expected_speed_si);
+        describe(sim, place_of(sim, e.max_speed_cell)), flow_cause(sim));
   } else if (std::max(r.max_density - 1.0, 1.0 - r.min_density) > limits.max_density_deviation) {
     const bool high = r.max_density - 1.0 >= 1.0 - r.min_density;
     const Place place = place_of(sim, high ? e.max_density_cell : e.min_density_cell);

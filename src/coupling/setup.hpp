@@ -62,7 +62,7 @@ struct SimulationSetup {
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
   double trt_magic = lbm::kWallExactTrtMagic;  ///< TRT only: Lambda = (tau+ - 1/2)(tau- - 1/2)
-  lbm::SubgridModel subgrid_model = lbm::SubgridModel::none;
+  lbm::SubgridModel subgrid_model = lbm::SubgridModel::automatic;  ///< the run's: CasePlan::subgrid_model
   double smagorinsky_constant = lbm::kDefaultSmagorinskyConstant;  ///< C_S, with SubgridModel::smagorinsky
   lbm::Precision precision = lbm::kDefaultPrecision;
   CouplingKind coupling = kDefaultCoupling;

@@ -147,7 +147,7 @@ lbm::SolverConfig Simulation::fluid_config() const {
   config.lattice = setup_.lattice;
   config.collision = setup_.collision;
   config.magic = setup_.trt_magic;
-  config.subgrid = setup_.subgrid_model;
+  config.subgrid = plan_.subgrid_model;
   config.smagorinsky_constant = setup_.smagorinsky_constant;
   config.precision = setup_.precision;
   config.nx = derived_.cells[0];

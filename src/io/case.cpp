@@ -93,11 +93,10 @@ std::vector<std::string> collision_key_warnings(const CaseValues& v) {
         fmt::format("numerics.trt_magic: read only with numerics.collision = \"trt\"; this case uses \"{}\", "
                     "so it has no effect",
                     v.string("numerics.collision")));
-  if (set_away_from_default(v, "numerics.smagorinsky_constant") && v.string("numerics.subgrid_model") != "smagorinsky")
+  if (set_away_from_default(v, "numerics.smagorinsky_constant") && v.string("numerics.subgrid_model") == "none")
     warnings.push_back(
-        fmt::format("numerics.smagorinsky_constant: read only with numerics.subgrid_model = \"smagorinsky\"; this "
-                    "case uses \"{}\", so it has no effect",
-                    v.string("numerics.subgrid_model")));
+        "numerics.smagorinsky_constant: read only with numerics.subgrid_model = \"smagorinsky\" or \"auto\"; this "
+        "case uses \"none\", so it has no effect");
   return warnings;
 }
 

@@ -133,13 +133,14 @@ std::vector<KeySpec> declare() {
       real("numerics.trt_magic", Value(lbm::kWallExactTrtMagic), "", {0.0, 1.0, false, true},
            "TRT's magic parameter Lambda = (tau+ - 1/2)(tau- - 1/2): 3/16 puts half-way walls mid-way for any "
            "viscosity (docs/lbm.md)"),
-      choice("numerics.subgrid_model", "none", {"none", "smagorinsky"},
-             "subgrid model of every collision operator: none, or Smagorinsky's eddy viscosity, (C_S dx)^2 times "
-             "the strain rate read from each cell's non-equilibrium stress (Hou et al. 1996; no wall damping; "
-             "docs/lbm.md)"),
+      choice("numerics.subgrid_model", "auto", {"auto", "none", "smagorinsky"},
+             "subgrid model: Smagorinsky's eddy viscosity, (C_S dx)^2 times the strain rate read from each cell's "
+             "non-equilibrium stress (Hou et al. 1996; no wall damping), or none; auto: Smagorinsky's with TRT above "
+             "a cell Reynolds number of 20, where TRT alone diverged, none otherwise (docs/lbm.md)"),
       // Up to 0.5, about three times Lilly's 0.17, the largest value in common use.
       real("numerics.smagorinsky_constant", Value(lbm::kDefaultSmagorinskyConstant), "", {0.0, 0.5, false, true},
-           "C_S of numerics.subgrid_model = \"smagorinsky\", the filter width being dx: 0.1 as in wall-bounded "
+           "C_S of the Smagorinsky model (numerics.subgrid_model = \"smagorinsky\", or \"auto\" where it chooses it), "
+           "the filter width being dx: 0.1 as in wall-bounded "
            "and shear flows (Deardorff 1970; docs/lbm.md)"),
       choice("numerics.precision", default_precision.c_str(), {"double", "float"},
              "storage precision of the populations"),

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -278,16 +279,37 @@ constexpr double kTrtInletStableTau = 0.55;
 // derived.
 constexpr double kResolvedCellReynolds = 15.0;
 
+// How far a settling sphere's mean fall speed was from the standard drag curve under the default
+// numerics (TRT, numerics.subgrid_model = "auto"), by grid: density ratio 2.5, Ga 120 to 600,
+// released from rest, in percent (docs/lbm.md, "The default subgrid model", where the runs are).
+// Measured, not a bound: a grid between two rows is given the coarser row's range.
+struct MeasuredSettlingDeviation {
+  double cells_per_diameter;
+  double lowest_percent, highest_percent;
+};
+constexpr std::array<MeasuredSettlingDeviation, 2> kDefaultNumericsDeviation{{{8.0, -10.2, 0.5}, {12.0, -7.1, 0.9}}};
+
+std::string measured_deviation_text(const coupling::SimulationSetup& s) {
+  if (s.collision != lbm::CollisionKind::trt || s.subgrid_model != lbm::SubgridModel::automatic) return "";
+  const MeasuredSettlingDeviation* row = nullptr;
+  for (const auto& r : kDefaultNumericsDeviation)
+    if (r.cells_per_diameter <= s.cells_per_diameter) row = &r;
+  if (row == nullptr) return "";
+  return fmt::format(
+      "; with these numerics settling spheres at Ga 120-600 fell {:+.1f}% to {:+.1f}% from the standard drag curve at "
+      "{:g} cells per diameter (docs/lbm.md, \"The default subgrid model\")",
+      row->lowest_percent, row->highest_percent, row->cells_per_diameter);
+}
+
 std::optional<std::string> cell_reynolds_advice(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
-  const double cell_reynolds = plan.reynolds / s.cells_per_diameter;
+  const double cell_reynolds = plan.cell_reynolds;
   if (!(cell_reynolds > kResolvedCellReynolds)) return std::nullopt;
   return fmt::format(
       "numerics.cells_per_diameter: the cell Reynolds number U dx / nu at the expected speed is {:.1f} (Re {:.0f} over "
       "{:.3g} cells per d_eq), above about {}, where a sphere's drag moved by 2-5% with numerics.collision, "
-      "numerics.trt_magic, "
-      "numerics.wall_rule or the grid (docs/validation.md); for figures to publish, compare with a run at {} or "
-      "more cells per d_eq",
-      cell_reynolds, plan.reynolds, s.cells_per_diameter, kResolvedCellReynolds,
+      "numerics.trt_magic, numerics.wall_rule or the grid (docs/validation.md){}; for figures to publish, compare with "
+      "a run at {} or more cells per d_eq",
+      cell_reynolds, plan.reynolds, s.cells_per_diameter, kResolvedCellReynolds, measured_deviation_text(s),
       std::ceil(plan.reynolds / kResolvedCellReynolds));
 }
 

@@ -59,8 +59,14 @@ void check_collision_lattice(CollisionKind collision, LatticeKind lattice) {
   }
 }
 
+SubgridModel chosen_subgrid_model(SubgridModel requested, CollisionKind collision, double cell_reynolds) {
+  if (requested != SubgridModel::automatic) return requested;
+  const bool beyond_trt = collision == CollisionKind::trt && cell_reynolds > kTrtStableCellReynolds;
+  return beyond_trt ? SubgridModel::smagorinsky : SubgridModel::none;
+}
+
 void check_collision_subgrid(CollisionKind collision, SubgridModel subgrid) {
-  if (collision == CollisionKind::cumulant && subgrid != SubgridModel::none) {
+  if (collision == CollisionKind::cumulant && subgrid == SubgridModel::smagorinsky) {
     throw InputError(fmt::format(
         "numerics.subgrid_model = \"{}\" does not act on numerics.collision = \"cumulant\" (the model is built into "
         "\"bgk\", \"trt\" and \"recursive_regularized\"); choose one of those or numerics.subgrid_model = \"none\"",
@@ -71,6 +77,9 @@ void check_collision_subgrid(CollisionKind collision, SubgridModel subgrid) {
 void validate(const SolverConfig& config) {
   check_collision_lattice(config.collision, config.lattice);
   check_collision_subgrid(config.collision, config.subgrid);
+  if (config.subgrid == SubgridModel::automatic) {
+    throw InputError("lbm.subgrid: \"auto\" is chosen before the solver is built (lbm::chosen_subgrid_model)");
+  }
   const auto check_extent = [](int n, const char* name) {
     if (n < 1) throw InputError(fmt::format("lbm.{}: must be >= 1, got {}", name, n));
   };
@@ -139,7 +148,17 @@ std::string to_string(CollisionKind kind) {
   return "?";
 }
 
-std::string to_string(SubgridModel kind) { return kind == SubgridModel::smagorinsky ? "smagorinsky" : "none"; }
+std::string to_string(SubgridModel kind) {
+  switch (kind) {
+    case SubgridModel::none:
+      return "none";
+    case SubgridModel::smagorinsky:
+      return "smagorinsky";
+    case SubgridModel::automatic:
+      return "auto";
+  }
+  return "?";
+}
 
 std::string to_string(Precision kind) { return kind == Precision::float32 ? "float" : "double"; }
 
@@ -192,7 +211,8 @@ Boundary parse_boundary(const std::string& name, const std::string& what) {
 SubgridModel parse_subgrid_model(const std::string& name, const std::string& what) {
   if (name == "none") return SubgridModel::none;
   if (name == "smagorinsky") return SubgridModel::smagorinsky;
-  throw InputError(fmt::format("{}: must be none or smagorinsky, got '{}'", what, name));
+  if (name == "auto") return SubgridModel::automatic;
+  throw InputError(fmt::format("{}: must be auto, none or smagorinsky, got '{}'", what, name));
 }
 
 }  // namespace settle::lbm

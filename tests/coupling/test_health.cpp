@@ -12,12 +12,14 @@
 #include <string>
 #include <vector>
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
 #include "coupling/checkpoint_state.hpp"
 #include "coupling/health.hpp"
 #include "coupling/runner.hpp"
+#include "lbm/config.hpp"
 #include "periodic_sphere.hpp"
 
 namespace test_health {
@@ -126,6 +128,39 @@ TEST(Health, SpeedBeyondTheLimitIsFoundAndNamed) {
   for (int n = 0; n < 5; ++n) sim.step();
   const HealthReport r = check_health(sim, strict);
   EXPECT_NE(r.problem.find("numerics.max_lattice_velocity"), std::string::npos) << r.problem;
+}
+
+// The advice follows the figure that decides: above TRT's measured cell Reynolds number
+// (lbm::kTrtStableCellReynolds) without a subgrid model it names numerics.subgrid_model, and says
+// that a lower lattice velocity (which moves tau, not the cell Reynolds number) does not help; with
+// the model on, it names the grid, with the cells that bring the cell Reynolds number to the bound.
+TEST(Health, AWakeBeyondTrtsCellReynoldsNumberNamesTheSubgridModelThenTheGrid) {
+  PeriodicSphereOptions o;
+  o.cells_per_diameter = 6.0;
+  o.box_cells = 16;
+  o.tau = 0.502;  // cell Reynolds number 3 u / (tau - 1/2) = 60 at the towing speed below: above 20
+  SimulationSetup s = periodic_sphere_setup(o);
+  s.motion = settle::body::MotionKind::towed;
+  s.initial.velocity_si = Eigen::Vector3d(0.04, 0.0, 0.0);  // lattice units (dx = dt = 1)
+  s.collision = settle::lbm::CollisionKind::trt;
+  HealthLimits strict;
+  strict.max_lattice_speed = -1.0;  // any fluid fails it: the cause is what is tested
+
+  s.subgrid_model = settle::lbm::SubgridModel::none;
+  Simulation plain(s);
+  ASSERT_GT(plain.plan().cell_reynolds, settle::lbm::kTrtStableCellReynolds);
+  const std::string without = check_health(plain, strict).problem;
+  EXPECT_NE(without.find("numerics.subgrid_model = \"auto\""), std::string::npos) << without;
+  EXPECT_NE(without.find("does not help"), std::string::npos) << without;
+
+  s.subgrid_model = settle::lbm::SubgridModel::automatic;
+  Simulation modelled(s);
+  EXPECT_EQ(modelled.plan().subgrid_model, settle::lbm::SubgridModel::smagorinsky);
+  const std::string with = check_health(modelled, strict).problem;
+  EXPECT_EQ(with.find("numerics.subgrid_model"), std::string::npos) << with;
+  const double cells =
+      std::ceil(o.cells_per_diameter * modelled.plan().cell_reynolds / settle::lbm::kTrtStableCellReynolds);
+  EXPECT_NE(with.find(fmt::format("raise numerics.cells_per_diameter (to {:.0f}", cells)), std::string::npos) << with;
 }
 
 TEST(Runner, ADivergedRunStopsWithANumericalErrorAfterWritingTheSample) {

@@ -432,6 +432,37 @@ TEST(Preflight, WarnsOfACellReynoldsNumberAboveFifteenOnly) {
   EXPECT_EQ(cell_warnings(preflight(s)), 0);
 }
 
+// Under the default numerics (TRT, subgrid model "auto") the warning adds how far settling spheres
+// were from the standard drag curve at the case's grid, the coarser measured row for a grid between
+// rows (8 and 12 cells per diameter in docs/lbm.md's table); other numerics, or a grid coarser than
+// the table, get no such figure.
+TEST(Preflight, TheCellReynoldsWarningGivesTheMeasuredDeviationOfTheDefaultNumerics) {
+  coupling::SimulationSetup s = small_setup();
+  s.motion = body::MotionKind::towed;
+  s.initial.velocity_si = {0.0, 0.0, -0.5};  // Re 500 in water: cell Reynolds number above 15 at 8-12 cells
+  s.collision = lbm::CollisionKind::trt;
+  s.subgrid_model = lbm::SubgridModel::automatic;
+  const auto cell_warning = [](const coupling::SimulationSetup& setup) {
+    const PreflightReport r = preflight(setup);
+    const auto w = std::find_if(r.warnings.begin(), r.warnings.end(),
+                                [](const std::string& text) { return contains(text, "cell Reynolds number"); });
+    return w == r.warnings.end() ? std::string() : *w;
+  };
+  s.cells_per_diameter = 8.0;
+  EXPECT_TRUE(contains(cell_warning(s), "fell -10.2% to +0.5% from the standard drag curve at 8 cells"))
+      << cell_warning(s);
+  s.cells_per_diameter = 10.0;
+  EXPECT_TRUE(contains(cell_warning(s), "at 8 cells per diameter")) << cell_warning(s);
+  s.cells_per_diameter = 12.0;
+  EXPECT_TRUE(contains(cell_warning(s), "fell -7.1% to +0.9% from the standard drag curve at 12 cells"))
+      << cell_warning(s);
+  s.subgrid_model = lbm::SubgridModel::none;
+  EXPECT_FALSE(contains(cell_warning(s), "standard drag curve")) << cell_warning(s);
+  s.subgrid_model = lbm::SubgridModel::automatic;
+  s.cells_per_diameter = 6.0;
+  EXPECT_FALSE(contains(cell_warning(s), "standard drag curve")) << cell_warning(s);
+}
+
 // On D3Q27 a free sphere's spin ran away with the momentum exchange (docs/coupling.md, Known
 // limits): a free body there is told, a free body on D3Q19, a towed one on D3Q27 and a free one with
 // the immersed boundary are not.

@@ -310,6 +310,25 @@ TEST(LbmConfig, RejectsUnusableValuesWithTheKeyInTheMessage) {
   EXPECT_EQ(parse_boundary("free-slip", "walls.x"), Boundary::free_slip);
 }
 
+// numerics.subgrid_model = "auto": the Smagorinsky model with TRT strictly above the measured
+// cell Reynolds number, none at or below it and with the other operators (which held without it);
+// an explicit choice passes through; a solver refuses "auto" unresolved.
+TEST(LbmConfig, AutomaticSubgridModelFollowsTheCellReynoldsNumberWithTrtOnly) {
+  const double bound = kTrtStableCellReynolds;
+  EXPECT_EQ(chosen_subgrid_model(SubgridModel::automatic, CollisionKind::trt, std::nextafter(bound, 1e9)),
+            SubgridModel::smagorinsky);
+  EXPECT_EQ(chosen_subgrid_model(SubgridModel::automatic, CollisionKind::trt, bound), SubgridModel::none);
+  for (const CollisionKind other : {CollisionKind::bgk, CollisionKind::recursive_regularized, CollisionKind::cumulant})
+    EXPECT_EQ(chosen_subgrid_model(SubgridModel::automatic, other, 10.0 * bound), SubgridModel::none);
+  EXPECT_EQ(chosen_subgrid_model(SubgridModel::none, CollisionKind::trt, 10.0 * bound), SubgridModel::none);
+  EXPECT_EQ(chosen_subgrid_model(SubgridModel::smagorinsky, CollisionKind::bgk, 0.0), SubgridModel::smagorinsky);
+  EXPECT_EQ(parse_subgrid_model("auto", "numerics.subgrid_model"), SubgridModel::automatic);
+  SolverConfig cfg;
+  cfg.nx = cfg.ny = cfg.nz = 4;
+  cfg.subgrid = SubgridModel::automatic;
+  EXPECT_THROW(make_solver(cfg), settle::InputError);
+}
+
 TEST(LbmCollision, RegularizedD3Q19RelaxesTheModelledMomentsAsDesigned) {
   // On D3Q19 the third order is carried only by the combinations H_xxy +- H_yzz (and
   // permutations): check the reconstruction reproduces the intended post-collision
