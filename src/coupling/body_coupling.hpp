@@ -16,7 +16,7 @@
 #include <Eigen/Core>
 
 #include "body/shape.hpp"
-#include "coupling/immersed_body.hpp"
+#include "coupling/lattice_body.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/solver.hpp"
 #include "parallel/communicator.hpp"

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "coupling/body_coupling.hpp"
+#include "coupling/immersed_body.hpp"
 #include "ibm/forcing.hpp"
 #include "parallel/communicator.hpp"
 
