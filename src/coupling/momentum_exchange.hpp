@@ -104,6 +104,11 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   CouplingForces measure(const lbm::Solver& fluid) override;
   bool fluid_inside() const override { return false; }
   std::size_t surface_element_count() const override { return whole_link_count_; }
+  const char* surface_element_name() const override { return "wall links"; }
+  /// The body mapped onto the lattice (solid cells, wall links and their q; waLBerla's "particle
+  /// mapping"), the uncovered cells refilled and the walls handed to the fluid (its "PDF restore"),
+  /// the momentum the links exchanged.
+  SubStepNames sub_step_names() const override { return {"body_mapping", "refill", "hydrodynamic_force"}; }
   /// The previous step's link sum (force, torque), for the two-step mean.
   std::array<double, 6> carried_state() const override;
   void restore_carried_state(const std::array<double, 6>& state) override;

@@ -328,8 +328,9 @@ TEST(Preflight, ReportsTheGridAndStepTheSimulationUses) {
   EXPECT_EQ(r.cells, sim.derived().cells);
   // The surface-area estimate of the marker count used for the 1e6 bound: the Fibonacci
   // markers of a sphere have about one cell^2 each, so within 10% of area / dx^2.
-  EXPECT_NEAR(r.markers / static_cast<double>(sim.derived().marker_count), 1.0, 0.1);
+  EXPECT_NEAR(r.surface_elements / static_cast<double>(sim.derived().surface_element_count), 1.0, 0.1);
   EXPECT_TRUE(contains(r.summary(), "grid 32x32x48")) << r.summary();
+  EXPECT_TRUE(contains(r.summary(), " markers; ")) << r.summary();
 }
 
 TEST(Preflight, CountsInteriorMarkersInTheEstimate) {
@@ -342,10 +343,10 @@ TEST(Preflight, CountsInteriorMarkersInTheEstimate) {
   // Surface (about area / dx^2) plus the interior lattice, whose inner-sphere volume estimate is
   // exact for a sphere; what is left is the lattice's count of points in a sphere of 6.5 cells
   // radius (a few percent) and the surface count's 10% of the test above.
-  const double built = static_cast<double>(sim.derived().marker_count);
-  EXPECT_NEAR(r.markers / built, 1.0, 0.1) << r.markers << " estimated, " << built << " built";
+  const double built = static_cast<double>(sim.derived().surface_element_count);
+  EXPECT_NEAR(r.surface_elements / built, 1.0, 0.1) << r.surface_elements << " estimated, " << built << " built";
   s.interior_markers = false;
-  EXPECT_GT(r.markers, 1.8 * preflight(s).markers);  // the interior roughly doubles them here
+  EXPECT_GT(r.surface_elements, 1.8 * preflight(s).surface_elements);  // the interior roughly doubles them here
 }
 
 TEST(Preflight, NonFiniteNumbersInACodeBuiltSetupAreNamed) {
