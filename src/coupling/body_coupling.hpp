@@ -125,6 +125,15 @@ struct CouplingOptions {
   int lattice_steps_per_body_step = 1;
 };
 
+/// How far (cells) from the body's surface lie the cells the coupling `options` choose needs:
+/// the delta kernel's half-width h for the immersed boundary (a marker's stencil; the markers lie
+/// on or inside the surface), one cell for the momentum exchange (the fluid ends of its links). A
+/// wall lies half a cell beyond the centre of the grid's last cell, so those cells stay inside the
+/// grid while the body's gap to every wall is at least reach - 1/2 cells: the bound of the
+/// wall-contact distance, whose default is the reach (contact_distance_cells, case_plan.hpp).
+/// numerics.delta_kernel thus changes nothing under the momentum exchange.
+double coupling_reach_cells(const CouplingOptions& options);
+
 /// The box of cells the coupling `options` chooses works on for a body at `centre` (lattice units)
 /// with this attitude: what its box_at returns, without building it.
 CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, double dx_si,

@@ -19,7 +19,6 @@
 #include "common/require.hpp"
 #include "coupling/immersed_body.hpp"
 #include "coupling/runner.hpp"
-#include "ibm/delta.hpp"
 #include "io/window_advice.hpp"
 #include "lbm/config.hpp"
 #include "lbm/grid.hpp"
@@ -567,7 +566,8 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
   memory.cells = r.cells;
   memory.lattice = s.lattice;
   memory.precision = s.precision;
-  const double box_side = 2.0 * (s.shape->bounding_radius() / dx_si + ibm::support_half_width(s.kernel)) + 2.0;
+  const double reach = coupling::coupling_reach_cells(coupling::coupling_options(s));
+  const double box_side = 2.0 * (s.shape->bounding_radius() / dx_si + reach) + 2.0;
   memory.body_box_cells = box_side * box_side * box_side;
   memory.surface_elements = r.surface_elements;
   memory.samples = sample_count(s, r.steps);

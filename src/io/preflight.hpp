@@ -65,10 +65,10 @@ struct MemoryInputs {
   std::array<int, 3> cells{};
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::Precision precision = lbm::kDefaultPrecision;
-  double body_box_cells = 0.0;  ///< cells of the box around the body (radius + stencil)
-  double surface_elements =
-      0.0;               ///< immersed boundary: surface and interior markers; momentum exchange: boundary cells
-  double samples = 0.0;  ///< timeseries rows the run keeps in memory
+  double body_box_cells = 0.0;  ///< cells of the box around the body (radius + coupling_reach_cells)
+  /// Immersed boundary: surface and interior markers; momentum exchange: boundary cells.
+  double surface_elements = 0.0;
+  double samples = 0.0;                    ///< timeseries rows the run keeps in memory
   bool velocity_field_per_sample = false;  ///< fixed bodies sample the superficial velocity
 };
 MemoryEstimate estimate_memory(const MemoryInputs& inputs);

@@ -246,8 +246,8 @@ TEST(RunCli, ReferenceKeyIsCopiedIntoTheSummary) {
 
 // The default spheroid (polar half-length 1 mm, d_eq = 1.26 mm, dx = d_eq / 8 = 0.1575 mm) upright
 // with its lowest point 3 cells above the floor, in a fixed window so that contact is on. The
-// stencil needs 1 cell (roma3), so only the contact start rule can refuse it: the spring reaches
-// 5 cells, and 2 W / k is about 1e-9 m (k = m pi^2 / (10 dt)^2), far below a cell.
+// momentum exchange's links need half a cell, so only the contact start rule can refuse it: the
+// spring reaches 5 cells, and 2 W / k is about 1e-9 m (k = m pi^2 / (10 dt)^2), far below a cell.
 const char* kNearFloor =
     "--set domain.follow_particle=false --set particle.euler=[0,0,0] "
     "--set particle.position=[3.78e-3,3.78e-3,1.4725e-3] --set run.end_time=0.0025 --threads 1";
@@ -275,17 +275,20 @@ TEST(RunCli, ContactKeysOutOfRangeExitTwo) {
   const Result wet = run_settle("-o " + scratch("e").string() + " --set contact.wet_stokes_scale=-1");
   EXPECT_EQ(wet.status, 2);
   EXPECT_NE(wet.err.find("wet_stokes_scale"), std::string::npos) << wet.err;
-  // 1.2 cells is inside the schema's range [1, 1000] but below peskin4's bound 2 - 0.5 = 1.5.
-  const Result r = run_settle("-o " + scratch("e").string() + " " + kNearFloor +
-                              " --set 'numerics.delta_kernel=\"peskin4\"' --set contact.distance_cells=1.2");
+  // 1.2 cells is inside the schema's range [0.5, 1000] but below the immersed boundary's bound
+  // with peskin4, 2 - 0.5 = 1.5 (the momentum exchange's is 1 - 0.5, whatever the kernel).
+  const Result r =
+      run_settle("-o " + scratch("e").string() + " " + kNearFloor +
+                 " --set 'numerics.coupling=\"immersed_boundary\"' --set 'numerics.delta_kernel=\"peskin4\"'"
+                 " --set contact.distance_cells=1.2");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("contact.distance_cells"), std::string::npos) << r.err;
 }
 
 // The contact columns follow the existing ones (never renamed). In the near-floor start (3 cells
-// above the floor, default reach 1.5 cells) the body is out of the spring's reach in 10 steps
-// (it sinks about 2e-6 m: 1/2 a t^2 with a ~ 0.6 m/s^2, t = 2.5 ms): zero contact force, and a
-// finite gap close to the start's 3 cells.
+// above the floor, the momentum exchange's default contact distance 1 cell) the body is out of
+// the spring's reach in 10 steps (it sinks about 2e-6 m: 1/2 a t^2 with a ~ 0.6 m/s^2, t = 2.5
+// ms): zero contact force, and a finite gap close to the start's 3 cells.
 TEST(RunCli, TimeseriesCarriesContactForceAndWallGap) {
   const fs::path dir = scratch("contact_columns");
   ASSERT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor).status, 0);
