@@ -17,6 +17,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <fmt/core.h>
@@ -146,6 +148,7 @@ std::string motion_name(body::MotionKind kind) {
 std::string derived_block(const coupling::Simulation& sim) {
   const auto& d = sim.derived();
   const auto& p = sim.plan();
+  const bool markers = sim.coupling().fluid_inside();  // the immersed boundary's
   return fmt::format(
       "\n{} (not read back):\n"
       "# dx = {:.9g}  # m, d_eq / cells_per_diameter\n"
@@ -157,11 +160,21 @@ std::string derived_block(const coupling::Simulation& sim) {
       "# mach = {:.6g}  # of the expected speed\n"
       "# reynolds = {:.6g}  # expected speed x d_eq / nu\n"
       "# galileo = {:.6g}\n"
-      "# markers = {}\n"
-      "# marker_retraction = {:.9g}  # cells\n",
+      "# {} = {}\n"
+      "{}",
       kDerivedBlockTitle, p.units.dx_si(), p.units.dt_si(), p.units.tau(), d.cells[0], d.cells[1], d.cells[2],
-      p.equivalent_diameter_si, p.expected_speed_si, p.mach, p.reynolds, p.galileo, d.marker_count,
-      sim.setup().marker_retraction_cells);
+      p.equivalent_diameter_si, p.expected_speed_si, p.mach, p.reynolds, p.galileo, markers ? "markers" : "wall_links",
+      d.surface_element_count,
+      markers ? fmt::format("# marker_retraction = {:.9g}  # cells\n", sim.setup().marker_retraction_cells) : "");
+}
+
+// Deprecated, for one release: a sub-step the coupling renamed is repeated under its former name
+// (coupling::kFormerSubStepNames; docs/user-guide.md, "summary.json").
+void add_former_timing_names(nlohmann::json& timing, const coupling::SubStepNames& now) {
+  const coupling::SubStepNames& former = coupling::kFormerSubStepNames;
+  for (const auto& [old_name, new_name] : {std::pair{former.place, now.place}, std::pair{former.impose, now.impose},
+                                           std::pair{former.measure, now.measure}})
+    if (std::string_view(old_name) != new_name && timing.contains(new_name)) timing[old_name] = timing[new_name];
 }
 
 // What the run itself reports: the case, the converter's numbers, the loop's figures and timing.
@@ -182,7 +195,10 @@ nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResu
   // The model the run used: numerics.subgrid_model = "auto" resolved (lbm::chosen_subgrid_model).
   j["subgrid_model"] = lbm::to_string(p.subgrid_model);
   j["equivalent_diameter"] = p.equivalent_diameter_si;
-  j["markers"] = d.marker_count;
+  j["coupling"] = coupling::to_string(sim.coupling().kind());
+  j["surface_elements"] = d.surface_element_count;
+  // Deprecated, for one release: surface_elements under its former name (docs/user-guide.md).
+  j["markers"] = d.surface_element_count;
   j["steps"] = result.steps;
   j["simulated_time"] = result.simulated_time_si;
   j["stop_reason"] = result.stop_reason;
@@ -196,6 +212,7 @@ nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResu
                        {"lattice_speed_limit", limits.max_lattice_speed}};
   nlohmann::json timing = nlohmann::json::object();
   for (const auto& [name, seconds] : sim.timers().entries()) timing[name] = seconds;
+  add_former_timing_names(timing, sim.coupling().sub_step_names());
   j["timing"] = timing;
   j["warnings"] = warnings;
   return j;
@@ -454,8 +471,8 @@ void run_case(const RunOptions& options) {
       fmt::format("{}: dx = {:.4g} m, dt = {:.4g} s, tau = {:.4f}, Ma = {:.3g}, Re = {:.4g}, Ga = {:.4g}, "
                   "grid {}x{}x{}, {}, {} {}, {} threads",
                   name, p.units.dx_si(), p.units.dt_si(), p.units.tau(), p.mach, p.reynolds, p.galileo, d.cells[0],
-                  d.cells[1], d.cells[2], operator_text(sim.setup(), p), d.marker_count,
-                  sim.coupling().fluid_inside() ? "markers" : "wall links (momentum exchange)", omp_get_max_threads()));
+                  d.cells[1], d.cells[2], operator_text(sim.setup(), p), d.surface_element_count,
+                  sim.coupling().surface_element_name(), omp_get_max_threads()));
 
   console.detail("the converter's choices (also at the end of case.resolved.toml):" + derived_block(sim));
   std::unique_ptr<RunDirectoryLock> lock;

@@ -67,8 +67,7 @@ std::string run_plan_text(const coupling::SimulationSetup& s, const io::Prefligh
   text += fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}, {}\n", r.cells[0], r.cells[1], r.cells[2],
                       r.cell_count, lbm::to_string(s.lattice), operator_text(s, p), lbm::to_string(s.precision));
   text += fmt::format("  run       end time {:.4g} s = {:.0f} steps\n", s.end_time_si, r.steps);
-  text += fmt::format("  body      {}, about {:.3g} surface cells (area / dx^2)\n", coupling::to_string(s.coupling),
-                      s.shape->surface_area() / (p.units.dx_si() * p.units.dx_si()));
+  text += fmt::format("  body      {}, {}\n", coupling::to_string(s.coupling), r.surface_text());
   const std::string budget =
       r.memory_budget_bytes
           ? fmt::format("{:.3g} GiB available ({})", *r.memory_budget_bytes / kBytesPerGiB, r.memory_budget_source)

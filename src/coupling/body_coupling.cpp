@@ -18,6 +18,11 @@ CouplingKind parse_coupling(const std::string& name, const std::string& what) {
   throw InputError(fmt::format("{}: must be immersed_boundary or momentum_exchange, got '{}'", what, name));
 }
 
+double coupling_reach_cells(const CouplingOptions& options) {
+  if (options.kind == CouplingKind::momentum_exchange) return kMomentumExchangeReachCells;
+  return ibm::support_half_width(options.kernel);
+}
+
 CellBox coupling_box(const CouplingOptions& options, const body::Shape& shape, double dx_si,
                      const Eigen::Vector3d& centre, const Eigen::Matrix3d& body_to_inertial) {
   if (options.kind == CouplingKind::momentum_exchange)

@@ -7,8 +7,10 @@
 //  - MomentumExchangeCoupling (coupling/momentum_exchange.hpp): the sharp interface, the body's
 //    cells solid, interpolated bounce-back on its true surface, the force from the momentum the
 //    links exchange, and the cells the body uncovers refilled.
-// Each step calls, in order: place (the "markers" sub-step), impose ("forcing"), the fluid step,
-// measure ("hydrodynamic_force"). Lattice units throughout (docs/coupling.md, "Couplings").
+// Each step calls, in order: place, impose, the fluid step, measure; each coupling names the
+// sub-steps its three calls are timed as (sub_step_names: the immersed boundary's "markers",
+// "forcing", "hydrodynamic_force", the momentum exchange's "body_mapping", "refill",
+// "hydrodynamic_force"). Lattice units throughout (docs/coupling.md, "Couplings").
 #include <array>
 #include <memory>
 #include <string>
@@ -16,7 +18,7 @@
 #include <Eigen/Core>
 
 #include "body/shape.hpp"
-#include "coupling/immersed_body.hpp"
+#include "coupling/lattice_body.hpp"
 #include "ibm/delta.hpp"
 #include "lbm/solver.hpp"
 #include "parallel/communicator.hpp"
@@ -50,6 +52,21 @@ struct CouplingForces {
   double slip_max = 0.0, slip_rms = 0.0;
 };
 
+/// The names under which the coupled step (Simulation::step) times a coupling's three calls: the
+/// keys of summary.json's `timing`, the names of settle bench's `substeps` and of the run's closing
+/// table. Each says what the call does under that coupling (docs/architecture.md, "The coupled time
+/// step").
+struct SubStepNames {
+  const char* place;    ///< BodyCoupling::place
+  const char* impose;   ///< BodyCoupling::impose
+  const char* measure;  ///< BodyCoupling::measure
+};
+/// The names every coupling's calls were timed as before each coupling named its own (the
+/// immersed boundary's words). summary.json repeats a renamed sub-step's time under its former
+/// name for one release (deprecated; docs/user-guide.md, "summary.json"), and a checkpoint written
+/// before the renaming has its times booked under the new names.
+inline constexpr SubStepNames kFormerSubStepNames{"markers", "forcing", "hydrodynamic_force"};
+
 /// Which coupling a case uses (numerics.coupling).
 enum class CouplingKind { immersed_boundary, momentum_exchange };
 /// The coupling of a case that names none; why this one: docs/coupling.md, "Couplings".
@@ -82,6 +99,10 @@ class BodyCoupling {
   virtual bool fluid_inside() const = 0;
   /// Surface elements per step: markers, or links of the last placement.
   virtual std::size_t surface_element_count() const = 0;
+  /// What surface_element_count counts, a plural noun for the console ("markers", "wall links").
+  virtual const char* surface_element_name() const = 0;
+  /// What the coupled step times place, impose and measure as.
+  virtual SubStepNames sub_step_names() const = 0;
   /// What the coupling carries from one step to the next, for checkpoints: the immersed
   /// boundary's internal fluid momentum (linear, angular), the momentum exchange's previous link
   /// sum (force, torque).
@@ -103,6 +124,15 @@ struct CouplingOptions {
   /// The body is placed once per this many lattice steps (SimulationSetup::lattice_steps_per_body_step).
   int lattice_steps_per_body_step = 1;
 };
+
+/// How far (cells) from the body's surface lie the cells the coupling `options` choose needs:
+/// the delta kernel's half-width h for the immersed boundary (a marker's stencil; the markers lie
+/// on or inside the surface), one cell for the momentum exchange (the fluid ends of its links). A
+/// wall lies half a cell beyond the centre of the grid's last cell, so those cells stay inside the
+/// grid while the body's gap to every wall is at least reach - 1/2 cells: the bound of the
+/// wall-contact distance, whose default is the reach (contact_distance_cells, case_plan.hpp).
+/// numerics.delta_kernel thus changes nothing under the momentum exchange.
+double coupling_reach_cells(const CouplingOptions& options);
 
 /// The box of cells the coupling `options` chooses works on for a body at `centre` (lattice units)
 /// with this attitude: what its box_at returns, without building it.

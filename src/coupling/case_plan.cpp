@@ -23,13 +23,17 @@ void check_contact_setup(const SimulationSetup& s) {
   if (!(s.contact_wet_stokes_scale >= 0.0 && s.contact_wet_stokes_scale <= 1.0e3))
     throw InputError(fmt::format("contact.wet_stokes_scale: must be in [0, 1000] (0: dry contacts), got {}",
                                  s.contact_wet_stokes_scale));
-  const double minimum = ibm::support_half_width(s.kernel) - 0.5;
+  // Closer than reach - 1/2 the cells the coupling needs would leave the grid (coupling_reach_cells).
+  const double minimum = coupling_reach_cells(coupling_options(s)) - 0.5;
   const double distance = contact_distance_cells(s);
+  const std::string needs = s.coupling == CouplingKind::momentum_exchange
+                                ? std::string("the momentum exchange's boundary links")
+                                : fmt::format("the {} kernel's forcing stencil", ibm::to_string(s.kernel));
   if (!(distance >= minimum && distance <= 1.0e3))
     throw InputError(
-        fmt::format("contact.distance_cells: must be in [{}, 1000] cells for the {} kernel (a body resting "
-                    "closer to a wall would put its forcing stencil outside the grid), got {}",
-                    minimum, ibm::to_string(s.kernel), distance));
+        fmt::format("contact.distance_cells: must be in [{}, 1000] cells (a body resting closer to a wall would "
+                    "put {} outside the grid), got {}",
+                    minimum, needs, distance));
 }
 
 void check_setup(const SimulationSetup& s) {
@@ -125,6 +129,10 @@ CouplingOptions coupling_options(const SimulationSetup& setup) {
   options.covered_cell_torque = setup.covered_cell_torque;
   options.lattice_steps_per_body_step = setup.lattice_steps_per_body_step;
   return options;
+}
+
+double contact_distance_cells(const SimulationSetup& setup) {
+  return setup.contact_distance_cells.value_or(coupling_reach_cells(coupling_options(setup)));
 }
 
 void check_body_box_in_grid(const SimulationSetup& setup, double dx_si, const std::array<int, 3>& cells) {

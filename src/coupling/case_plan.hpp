@@ -50,6 +50,12 @@ CasePlan plan_case(const SimulationSetup& setup);
 /// The coupling's options as the case's keys set them.
 CouplingOptions coupling_options(const SimulationSetup& setup);
 
+/// The gap (cells) at which the contact spring starts: the case's, else the reach of the coupling's
+/// cells beyond the surface (coupling_reach_cells: the delta kernel's half-width, or one cell). A
+/// body resting at that gap is half a cell further from the wall than its coupling needs, which
+/// takes the overlap of impacts up to several times the expected speed (docs/rigid-body.md).
+double contact_distance_cells(const SimulationSetup& setup);
+
 /// Refuses (settle::InputError naming the key) a body whose coupling box (coupling_box) at its
 /// initial pose leaves a grid of `cells` with spacing dx_si: along a walled axis every cell of the
 /// box must be in the grid (particle.position), along a periodic one it may span no more cells than

@@ -103,7 +103,9 @@ Fingerprint fingerprint_of(const Simulation& sim) {
       number("inflow velocity y (lattice units)", c.inflow_velocity.y()),
       number("inflow velocity z (lattice units)", c.inflow_velocity.z()),
       face_entry("outflow face", s.outflow),
-      number("surface markers", static_cast<double>(sim.derived().marker_count)),
+      // The entry's name is the file format's, kept from when both couplings spoke of markers: it
+      // counts the wall links of a momentum exchange.
+      number("surface markers", static_cast<double>(sim.derived().surface_element_count)),
       number("marker retraction (cells)", s.marker_retraction_cells),
       number("delta kernel", static_cast<double>(static_cast<int>(s.kernel))),
       number("forcing iterations", s.forcing_iterations),
@@ -272,6 +274,16 @@ void check_fingerprint(const Fingerprint& saved, const Fingerprint& current, con
   if (saved.size() != current.size()) refuse("it records quantities this version of settle does not know");
 }
 
+/// The name a sub-step is timed under now, for one a checkpoint recorded: a checkpoint written
+/// before each coupling named its own sub-steps holds their times under the former names.
+const char* current_sub_step_name(const Simulation& sim, const std::string& recorded) {
+  const SubStepNames now = sim.coupling().sub_step_names();
+  if (recorded == kFormerSubStepNames.place) return now.place;
+  if (recorded == kFormerSubStepNames.impose) return now.impose;
+  if (recorded == kFormerSubStepNames.measure) return now.measure;
+  return recorded.c_str();
+}
+
 }  // namespace
 
 /// The private members of Simulation that a checkpoint holds (friend of Simulation).
@@ -287,7 +299,7 @@ struct CheckpointAccess {
     out.vec3(sim.virtual_inertia_.acceleration_si);
     out.vec3(sim.virtual_inertia_.angular_acceleration_b_si);
     write_wrench(out, sim.last_.hydrodynamic);
-    write_wrench(out, sim.last_.marker_reaction);
+    write_wrench(out, sim.last_.surface);
     write_wrench(out, sim.last_.internal_rate);
     out.f64(sim.last_.slip_max_si);
     out.f64(sim.last_.slip_rms_si);
@@ -333,7 +345,7 @@ struct CheckpointAccess {
     s.acceleration_estimate_si = in.vec3();
     s.angular_acceleration_estimate_b_si = in.vec3();
     s.last.hydrodynamic = read_wrench(in);
-    s.last.marker_reaction = read_wrench(in);
+    s.last.surface = read_wrench(in);
     s.last.internal_rate = read_wrench(in);
     s.last.slip_max_si = in.f64();
     s.last.slip_rms_si = in.f64();
@@ -364,7 +376,7 @@ struct CheckpointAccess {
     sim.last_ = s.last;
     if (sim.contact_) sim.contact_->restore_impact_speeds(s.impact_speeds_si);
     sim.timers_ = SubstepTimers{};
-    for (const auto& [name, seconds] : s.timers) sim.timers_.add(name.c_str(), seconds);
+    for (const auto& [name, seconds] : s.timers) sim.timers_.add(current_sub_step_name(sim, name), seconds);
   }
 };
 

@@ -124,7 +124,8 @@ std::string density_cause(const Simulation& sim, const Place& place) {
   // with (tau - 0.5) u / L: in a thin gap (a particle nearing a wall, L the gap) the viscous part
   // dominates at large tau, and lowering dt (numerics.max_tau) shrinks it as dt^2.
   const double tau = sim.units().tau();
-  if (sim.setup().interior_markers && place.inside_particle)
+  // numerics.interior_markers is read by the immersed boundary alone (the momentum exchange's inside is solid).
+  if (sim.coupling().fluid_inside() && sim.setup().interior_markers && place.inside_particle)
     return "the pressure in the fluid that numerics.interior_markers holds rigid inside the particle: steady, about "
            "20 x rho U^2 / 2 (docs/coupling.md, \"Pressure inside a body with interior markers\"), a density "
            "deviation of 0.06-0.10 at lattice velocity 0.05, falling roughly as its square; lower "

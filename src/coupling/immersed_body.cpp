@@ -10,16 +10,6 @@
 namespace settle::coupling {
 namespace {
 
-bool periodic(const lbm::Solver& solver, int axis) {
-  return solver.config().boundaries[static_cast<std::size_t>(axis)] == lbm::Boundary::periodic;
-}
-
-// The whole lattice's extent (a block of a split lattice answers for the whole).
-int grid_extent(const lbm::Solver& solver, int axis) {
-  if (solver.config().split) return solver.config().split->global[static_cast<std::size_t>(axis)];
-  return axis == 0 ? solver.nx() : axis == 1 ? solver.ny() : solver.nz();
-}
-
 // Interior markers: a body-fixed cubic lattice of one-cell spacing centred on the centroid, kept
 // where the point lies at least `depth_cells` below the surface. Each stands for one cell of volume.
 void add_interior_markers(const body::Shape& shape, double dx_si, double depth_cells, BodyMarkers& markers) {
@@ -95,19 +85,6 @@ ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& ce
     placed.target_velocity.push_back(velocity + angular_velocity_n.cross(arm));
   }
   return placed;
-}
-
-bool box_fits(const CellBox& box, const lbm::Solver& solver) {
-  for (int a = 0; a < 3; ++a) {
-    const auto i = static_cast<std::size_t>(a);
-    const int n = grid_extent(solver, a);
-    if (periodic(solver, a)) {
-      if (box.extent[i] > n) return false;
-    } else if (box.origin[i] < 0 || box.origin[i] + box.extent[i] > n) {
-      return false;
-    }
-  }
-  return true;
 }
 
 std::vector<std::array<int, 3>> cells_of(const CellBox& box) {

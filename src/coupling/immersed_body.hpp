@@ -1,12 +1,11 @@
 #pragma once
 // The immersed-boundary side of one body, in lattice units (dx = dt = 1, fluid density 1):
-// its surface markers at a pose, the box of cells around it, the transfer of that box to and
-// from the fluid solver, the solid volume fraction of each cell, and the two terms of the
-// hydrodynamic force and torque.
+// its surface markers at a pose, the transfer of a box of cells to and from the fluid solver,
+// the solid volume fraction of each cell, and the two terms of the hydrodynamic force and torque.
 //
-// Lattice coordinates: cell (i, j, k) of the fluid grid has its centre at the INTEGER point
-// (i, j, k), i.e. X = (x_si - window_origin_si) / dx_si - 1/2 (ibm/forcing.hpp). The body
-// frame is the shape's own (body/shape.hpp), mapped to the inertial frame by C_b^n.
+// Lattice coordinates and the box of cells: coupling/lattice_body.hpp (cell (i, j, k) centred at
+// the integer point (i, j, k), as ibm/forcing.hpp has it). The body frame is the shape's own
+// (body/shape.hpp), mapped to the inertial frame by C_b^n.
 //
 // Hydrodynamic force and torque (Uhlmann 2005, J. Comput. Phys. 209, 448,
 // doi:10.1016/j.jcp.2005.03.017; Kempe and Froehlich 2012, J. Comput. Phys. 231, 3663,
@@ -24,23 +23,12 @@
 
 #include "body/distance_table.hpp"
 #include "body/shape.hpp"
+#include "coupling/lattice_body.hpp"
 #include "ibm/forcing.hpp"
 #include "lbm/solver.hpp"
 #include "parallel/communicator.hpp"
 
 namespace settle::coupling {
-
-/// Maps SI positions to lattice coordinates of the (possibly moving) window.
-struct LatticeFrame {
-  Eigen::Vector3d window_origin_si = Eigen::Vector3d::Zero();  ///< SI position of the grid's corner
-  double dx_si = 1.0;
-  Eigen::Vector3d to_lattice(const Eigen::Vector3d& x_si) const {
-    return (x_si - window_origin_si) / dx_si - Eigen::Vector3d::Constant(0.5);
-  }
-  Eigen::Vector3d to_si(const Eigen::Vector3d& x) const {
-    return window_origin_si + (x + Eigen::Vector3d::Constant(0.5)) * dx_si;
-  }
-};
 
 /// The body's markers in its own frame, lattice units: offsets from the centroid and volumes
 /// (area times one cell). Built once; placed at every pose by place_markers().
@@ -76,26 +64,6 @@ constexpr double interior_lattice_depth_cells(double retraction_cells) { return 
 ibm::Markers place_markers(const BodyMarkers& markers, const Eigen::Vector3d& centre,
                            const Eigen::Matrix3d& body_to_inertial, const Eigen::Vector3d& velocity,
                            const Eigen::Vector3d& angular_velocity_n);
-
-/// An axis-aligned box of cells (lattice units): first cell and extent per axis. Each coupling
-/// says which box a body needs (BodyCoupling::box_at).
-struct CellBox {
-  std::array<int, 3> origin{};
-  std::array<int, 3> extent{};
-  std::size_t cell_count() const {
-    return static_cast<std::size_t>(extent[0]) * static_cast<std::size_t>(extent[1]) *
-           static_cast<std::size_t>(extent[2]);
-  }
-  /// Index of a cell of the box in x-fastest order.
-  std::size_t index_of(const std::array<int, 3>& cell) const {
-    const auto at = [&](std::size_t a) { return static_cast<std::size_t>(cell[a] - origin[a]); };
-    return at(0) + static_cast<std::size_t>(extent[0]) * (at(1) + static_cast<std::size_t>(extent[1]) * at(2));
-  }
-};
-
-/// True when the box can be exchanged with the solver: on a periodic axis its extent is at most
-/// the grid's (no cell twice), on any other axis it lies inside the grid.
-bool box_fits(const CellBox& box, const lbm::Solver& solver);
 
 /// Density and velocity (with every force present in the solver, Guo half-step included) of
 /// `cells` (whole-lattice coordinates; periodic axes wrap), in list order. On a split lattice every
@@ -140,10 +108,6 @@ FluidMomentum internal_momentum(const lbm::Solver& solver, const SolidCells& cel
 
 /// Force and torque (about `centre`) that the fluid exerts on the markers, lattice units: minus
 /// the sum of the marker forces on the fluid.
-struct LatticeWrench {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
-};
 LatticeWrench marker_reaction(const ibm::Markers& markers, const std::vector<Eigen::Vector3d>& marker_force,
                               const Eigen::Vector3d& centre);
 

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "coupling/body_coupling.hpp"
+#include "coupling/immersed_body.hpp"
 #include "ibm/forcing.hpp"
 #include "parallel/communicator.hpp"
 
@@ -35,6 +36,9 @@ class ImmersedBoundaryCoupling final : public BodyCoupling {
   CouplingForces measure(const lbm::Solver& fluid) override;
   bool fluid_inside() const override { return true; }
   std::size_t surface_element_count() const override { return body_markers_.size(); }
+  const char* surface_element_name() const override { return "markers"; }
+  /// Placing the markers, multi-direct forcing, the marker reaction plus the inside's momentum.
+  SubStepNames sub_step_names() const override { return {"markers", "forcing", "hydrodynamic_force"}; }
   std::array<double, 6> carried_state() const override;
   void restore_carried_state(const std::array<double, 6>& state) override;
 

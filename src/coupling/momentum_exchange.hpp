@@ -87,9 +87,13 @@ std::shared_ptr<const body::DistanceTable> inside_table_for(std::shared_ptr<cons
 
 /// The cells the momentum exchange works on for a body at `centre` (lattice units) with this
 /// attitude: every cell whose centre can lie inside the body and one layer around them
-/// (MomentumExchangeCoupling::box_at, computed without building the coupling).
+/// (MomentumExchangeCoupling::box_at, computed without building the coupling). The cells it
+/// needs, the fluid ends of the links, lie within one cell of the surface: the box fits a grid
+/// while the body is more than half a cell from each wall (one fluid cell between them).
 CellBox momentum_exchange_box(const body::Shape& shape, double dx_si, const Eigen::Vector3d& centre,
                               const Eigen::Matrix3d& body_to_inertial);
+/// The reach of those cells beyond the surface (coupling_reach_cells).
+inline constexpr double kMomentumExchangeReachCells = 1.0;
 
 class MomentumExchangeCoupling final : public BodyCoupling {
  public:
@@ -104,6 +108,11 @@ class MomentumExchangeCoupling final : public BodyCoupling {
   CouplingForces measure(const lbm::Solver& fluid) override;
   bool fluid_inside() const override { return false; }
   std::size_t surface_element_count() const override { return whole_link_count_; }
+  const char* surface_element_name() const override { return "wall links"; }
+  /// The body mapped onto the lattice (solid cells, wall links and their q; waLBerla's "particle
+  /// mapping"), the uncovered cells refilled and the walls handed to the fluid (its "PDF restore"),
+  /// the momentum the links exchanged.
+  SubStepNames sub_step_names() const override { return {"body_mapping", "refill", "hydrodynamic_force"}; }
   /// The previous step's link sum (force, torque), for the two-step mean.
   std::array<double, 6> carried_state() const override;
   void restore_carried_state(const std::array<double, 6>& state) override;

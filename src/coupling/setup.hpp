@@ -61,7 +61,7 @@ struct SimulationSetup {
   double cells_per_diameter = 16.0;
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::CollisionKind collision = lbm::CollisionKind::trt;
-  double trt_magic = lbm::kWallExactTrtMagic;  ///< TRT only: Lambda = (tau+ - 1/2)(tau- - 1/2)
+  double trt_magic = lbm::kWallExactTrtMagic;                      ///< TRT only: Lambda = (tau+ - 1/2)(tau- - 1/2)
   lbm::SubgridModel subgrid_model = lbm::SubgridModel::automatic;  ///< the run's: CasePlan::subgrid_model
   double smagorinsky_constant = lbm::kDefaultSmagorinskyConstant;  ///< C_S, with SubgridModel::smagorinsky
   lbm::Precision precision = lbm::kDefaultPrecision;
@@ -86,21 +86,12 @@ struct SimulationSetup {
   /// beta of the wet restitution e exp(-beta / St) (body/contact.hpp; Legendre et al. 2006); 0: dry contacts
   double contact_wet_stokes_scale = 35.0;
   double contact_collision_steps = 10.0;  ///< collision time T_c in fluid time steps (Kempe and Froehlich 2012)
-  /// Gap (cells) at which the contact spring starts. Unset: the delta kernel's half-width (1.5 cells
-  /// for roma3, 2 for peskin4), so the surface markers' stencils stay inside the grid at rest and
-  /// under impacts up to several times the expected speed (docs/rigid-body.md).
+  /// Gap (cells) at which the contact spring starts; unset: the coupling's reach
+  /// (contact_distance_cells, case_plan.hpp).
   std::optional<double> contact_distance_cells;
 
   double end_time_si = 1.0;
   double output_interval_si = 0.005;
 };
-
-/// The gap (cells) at which the contact spring starts: the case's, else the delta kernel's
-/// half-width. The stencil of a point at lattice coordinate x starts at cell floor(x - h) + 1
-/// (ibm::axis_stencil), which stays >= 0 for a point at least h - 1/2 cells above the wall plane
-/// at -1/2; the extra half cell takes the overlap of impacts.
-inline double contact_distance_cells(const SimulationSetup& s) {
-  return s.contact_distance_cells.value_or(ibm::support_half_width(s.kernel));
-}
 
 }  // namespace settle::coupling

@@ -139,7 +139,7 @@ Simulation::Simulation(SimulationSetup setup, parallel::Communicator& communicat
   const lbm::CellState start{1.0, config.inflow_velocity};
   fluid_->initialise([&start](int, int, int) { return start; });
   coupling_->start(*fluid_, lattice_pose({setup_.initial.position_si, setup_.initial.attitude}));
-  derived_.marker_count = coupling_->surface_element_count();
+  derived_.surface_element_count = coupling_->surface_element_count();
 }
 
 lbm::SolverConfig Simulation::fluid_config() const {
@@ -217,9 +217,10 @@ void Simulation::step() {
   const double dt_si = plan_.units.dt_si();
   const bool body_step_starts = between_body_steps();
   const bool body_step_ends = (steps_ + 1) % setup_.lattice_steps_per_body_step == 0;
+  const SubStepNames names = coupling_->sub_step_names();
   if (body_step_starts) place_body();
   {
-    ScopedTimer timer(timers_, "forcing");
+    ScopedTimer timer(timers_, names.impose);
     coupling_->impose(*fluid_);
   }
   {
@@ -227,7 +228,7 @@ void Simulation::step() {
     parallel::step(*fluid_, communicator_);
   }
   {
-    ScopedTimer timer(timers_, "hydrodynamic_force");
+    ScopedTimer timer(timers_, names.measure);
     const CouplingForces forces = coupling_->measure(*fluid_);
     const auto to_si = [&](const LatticeWrench& w) {
       body::Wrench si;
@@ -238,7 +239,7 @@ void Simulation::step() {
       return si;
     };
     last_.hydrodynamic = to_si(forces.total);
-    last_.marker_reaction = to_si(forces.surface);
+    last_.surface = to_si(forces.surface);
     last_.internal_rate = to_si(forces.internal_rate);
     last_.slip_max_si = plan_.units.velocity_si(forces.slip_max);
     last_.slip_rms_si = plan_.units.velocity_si(forces.slip_rms);
@@ -257,7 +258,7 @@ void Simulation::place_body() {
     ScopedTimer timer(timers_, "body_predictor");
     pose = body_->predict_pose(body_step_dt_si());
   }
-  ScopedTimer timer(timers_, "markers");
+  ScopedTimer timer(timers_, coupling_->sub_step_names().place);
   const LatticePose placed = lattice_pose(pose);
   if (!box_fits(box_at(placed.centre, placed.body_to_inertial), *fluid_))
     throw std::logic_error("Simulation::step: the body left the grid (check can_step)");

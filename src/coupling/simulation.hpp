@@ -4,12 +4,14 @@
 // timed under its name:
 //
 //  1. body_predictor     pose at t + dt from the current velocities (RigidBody::predict_pose)
-//  2. markers            the body's surface at that pose, moving with the body's current
-//                        velocity: immersed-boundary markers, or momentum-exchange solid cells
-//                        and wall links (BodyCoupling::place, coupling/body_coupling.hpp)
-//  3. forcing            imposing it on the fluid (BodyCoupling::impose): multi-direct forcing
-//                        into the force array (Luo et al. 2007; Breugem 2012), or the refill of
-//                        uncovered cells and the new walls
+//  2. place              the body's surface at that pose, moving with the body's current
+//                        velocity (BodyCoupling::place, coupling/body_coupling.hpp): the
+//                        immersed boundary's "markers", the momentum exchange's "body_mapping"
+//                        (solid cells and wall links with their fractions q)
+//  3. impose             imposing it on the fluid (BodyCoupling::impose): the immersed
+//                        boundary's "forcing", multi-direct forcing into the force array (Luo et
+//                        al. 2007; Breugem 2012); the momentum exchange's "refill" of the cells
+//                        the body uncovers, and its new walls
 //     fluid              collide (Guo forcing, second order) and stream; walls inside the grid
 //                        closed by interpolated bounce-back
 //  4. hydrodynamic_force (BodyCoupling::measure) minus the marker forces plus the rate of change
@@ -27,7 +29,9 @@
 // 3-4 at both (the walls held), 5-6 at the second, with the wrench of the pair (coupling/
 // momentum_exchange.hpp).
 //
-// Coupling choices written down here: the markers move with the velocities of the step's start
+// Sub-steps 2-4 are timed under the names the coupling gives them (BodyCoupling::sub_step_names).
+//
+// Coupling choices written down here: the body's surface moves with the velocities of the step's start
 // (explicit in the body velocity, as Uhlmann 2005 and Breugem 2012); the wrench measured at the
 // predicted pose is held constant over the step by the corrector. That explicit coupling is
 // unstable when the fluid's response within one step outweighs the body's inertia (light, sharp-
@@ -69,7 +73,8 @@ namespace settle::coupling {
 /// steps): the grid as allocated and the body's surface elements.
 struct DerivedQuantities {
   std::array<int, 3> cells{};
-  std::size_t marker_count = 0;  ///< surface elements: markers, or wall links at the start
+  /// BodyCoupling::surface_element_count at the start: markers, or wall links
+  std::size_t surface_element_count = 0;
 };
 
 /// Wall-clock seconds spent in each named sub-step, in step order.
@@ -85,10 +90,12 @@ class SubstepTimers {
 
 /// What one step measured, in SI (inertial frame; torque about the centre of mass).
 struct StepObservation {
-  body::Wrench hydrodynamic;     ///< the sum of the two parts below
-  body::Wrench marker_reaction;  ///< minus the sum of the marker forces (and their moments)
-  body::Wrench internal_rate;    ///< rate of change of the momentum of the fluid inside the body
-  double slip_max_si = 0.0;      ///< largest |U - U_body| at the markers after forcing, m/s
+  body::Wrench hydrodynamic;  ///< the sum of the two parts below
+  /// The surface's part (CouplingForces::surface): minus the sum of the marker forces (and their
+  /// moments), or the momentum the wall links exchanged
+  body::Wrench surface;
+  body::Wrench internal_rate;  ///< rate of change of the momentum of the fluid inside the body
+  double slip_max_si = 0.0;    ///< largest |U - U_body| at the markers after forcing, m/s
   double slip_rms_si = 0.0;
   /// Particle-wall contact: impulse and angular impulse of the step divided by dt (zero away from
   /// walls); the body corrector received hydrodynamic + contact.
@@ -104,7 +111,7 @@ class Simulation {
 
  public:
   /// Converts units and checks the case before allocating anything (settle::InputError naming
-  /// the key to change); then builds the fluid, the body and its markers. With a communicator of
+  /// the key to change); then builds the fluid, the body and its coupling. With a communicator of
   /// more than one rank, this rank holds one block of the lattice (lbm::choose_split) and the body
   /// is coupled across the blocks (either coupling; docs/parallel.md): every rank steps
   /// together and holds the same body state.

@@ -183,10 +183,12 @@ std::vector<KeySpec> declare() {
            "value (Legendre et al. 2006; docs/rigid-body.md); 0: dry contacts"),
       real("contact.collision_steps", Value(10.0), "", closed(1.0, 1.0e4),
            "collision time T_c in fluid time steps (Kempe and Froehlich 2012)"),
-      // The lower bound depends on the kernel (half-width - 0.5: 1 for roma3, 1.5 for peskin4); the
-      // schema holds the smallest, the Simulation's check (and preflight) the kernel's own.
-      real("contact.distance_cells", std::nullopt, "cells", closed(1.0, 1.0e3),
-           "gap at which the contact spring starts (absent: the delta kernel's half-width; at least half-width - 0.5)"),
+      // The lower bound depends on the coupling (coupling::coupling_reach_cells - 0.5: 0.5 for the
+      // momentum exchange, 1 for the immersed boundary with roma3, 1.5 with peskin4); the schema holds
+      // the smallest, the Simulation's check (and preflight) the coupling's own.
+      real("contact.distance_cells", std::nullopt, "cells", closed(0.5, 1.0e3),
+           "gap at which the contact spring starts (absent: the coupling's reach, 1 for the momentum exchange, the "
+           "delta kernel's half-width for the immersed boundary; at least reach - 0.5)"),
       // [run]
       real("run.end_time", Value(1.0), "s", positive(), "simulated time to run"),
       real("run.output_interval", Value(0.005), "s", non_negative(),

@@ -19,7 +19,6 @@
 #include "common/require.hpp"
 #include "coupling/immersed_body.hpp"
 #include "coupling/runner.hpp"
-#include "ibm/delta.hpp"
 #include "io/window_advice.hpp"
 #include "lbm/config.hpp"
 #include "lbm/grid.hpp"
@@ -219,16 +218,7 @@ void check_walls_clear(const FaceClearance& c, const std::array<double, 3>& exte
   }
 }
 
-// ---- 6. markers and steps ---------------------------------------------------------------------
-
-void check_markers(double markers, double dx_si) {
-  if (markers > kMaxMarkers)
-    throw InputError(
-        fmt::format("numerics.cells_per_diameter: about {:.3g} surface markers at dx = {:.4g} m, more than the {:.0e} "
-                    "settle builds "
-                    "(their construction alone would need over a gigabyte); lower numerics.cells_per_diameter",
-                    markers, dx_si, kMaxMarkers));
-}
+// ---- 6. surface elements and steps -----------------------------------------------------------
 
 // Interior markers (numerics.interior_markers) fill the body from interior_lattice_depth_cells below
 // the surface, one per cell of volume. Their count is estimated without building them: the inner body's
@@ -240,6 +230,19 @@ double estimated_interior_markers(const coupling::SimulationSetup& s, double dx_
                depth_si = coupling::interior_lattice_depth_cells(s.marker_retraction_cells) * dx_si;
   const double shrink = std::max(0.0, 1.0 - depth_si * s.shape->surface_area() / (3.0 * volume));
   return volume * shrink * shrink * shrink / (dx_si * dx_si * dx_si);
+}
+
+// The immersed boundary's markers: the surface ones, at about one per cell^2 of area (whose
+// construction body::validate_marker_spacing bounds), and the interior lattice's, if any.
+double estimated_markers(const coupling::SimulationSetup& s, double dx_si) {
+  const double surface = s.shape->surface_area() / (dx_si * dx_si);
+  if (surface > kMaxMarkers)
+    throw InputError(
+        fmt::format("numerics.cells_per_diameter: about {:.3g} surface markers at dx = {:.4g} m, more than the {:.0e} "
+                    "settle builds "
+                    "(their construction alone would need over a gigabyte); lower numerics.cells_per_diameter",
+                    surface, dx_si, kMaxMarkers));
+  return surface + estimated_interior_markers(s, dx_si);
 }
 
 double checked_steps(const coupling::SimulationSetup& s, const coupling::CasePlan& plan) {
@@ -390,9 +393,13 @@ MemoryEstimate estimate_memory(const MemoryInputs& in) {
   m.flag_bytes = cells;
   m.boundary_links_bytes = 2.0 * sizeof(lbm::CopyEntry) * boundary_link_count(in.cells, in.lattice);
   // Approximation: per cell of the body's box, the local grid (7 doubles), the solid-cell list
-  // (cell, fraction, kind) and the forced-cell index, about 100 bytes; per marker, the ~20
-  // clustering patches of 56 bytes its construction holds (body/shape.cpp), about 1200 bytes.
-  m.body_bytes = 100.0 * in.body_box_cells + 1200.0 * in.markers;
+  // (cell, fraction, kind) and the forced-cell index, about 100 bytes; per surface element about
+  // 1200 bytes: an immersed-boundary marker's ~20 clustering patches of 56 bytes, which its
+  // construction holds (body/shape.cpp), or a momentum-exchange boundary cell's wall links, some
+  // 220 bytes each (the link and its crossing, 72, its momentum, 24, the solver's prepared link,
+  // 128; lbm/block_obstacle.hpp) and 5.7 per cell of area on D3Q19 (2592 links for 452 cells^2 of
+  // glass_bead_2mm's sphere at 12 cells per diameter).
+  m.body_bytes = 100.0 * in.body_box_cells + 1200.0 * in.surface_elements;
   m.output_bytes = in.samples * static_cast<double>(sizeof(coupling::Sample)) +
                    (in.velocity_field_per_sample ? 3.0 * sizeof(double) * cells : 0.0);
   return m;
@@ -523,13 +530,16 @@ void check_output_directory(const fs::path& dir, std::string_view flag) {
                                  ancestor.string(), why));
 }
 
+std::string PreflightReport::surface_text() const {
+  return fmt::format("about {:.3g} {}", surface_elements, surface_element_name);
+}
+
 std::string PreflightReport::summary() const {
   const std::string budget = memory_budget_bytes
                                  ? fmt::format("budget {}, {}", bytes_text(*memory_budget_bytes), memory_budget_source)
                                  : std::string("available memory unknown");
-  return fmt::format("grid {}x{}x{} = {:.3g} cells, {:.4g} steps, about {:.3g} markers; memory estimate {} ({})",
-                     cells[0], cells[1], cells[2], cell_count, steps, markers, bytes_text(memory.total_bytes()),
-                     budget);
+  return fmt::format("grid {}x{}x{} = {:.3g} cells, {:.4g} steps, {}; memory estimate {} ({})", cells[0], cells[1],
+                     cells[2], cell_count, steps, surface_text(), bytes_text(memory.total_bytes()), budget);
 }
 
 PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOptions& options) {
@@ -546,18 +556,20 @@ PreflightReport preflight(const coupling::SimulationSetup& s, const PreflightOpt
 
   check_particle_in_domain(s, dx_si, grid.cells);
   coupling::start_wall_contact(s, dx_si, dt_si, r.cells, Eigen::Vector3d::Zero());  // refuses a start inside the spring
-  r.markers = s.shape->surface_area() / (dx_si * dx_si);
-  check_markers(r.markers, dx_si);
-  r.markers += estimated_interior_markers(s, dx_si);
+  // The momentum exchange's boundary cells (those its links leave) are about one per cell^2 of area.
+  const bool immersed = s.coupling == coupling::CouplingKind::immersed_boundary;
+  r.surface_elements = immersed ? estimated_markers(s, dx_si) : s.shape->surface_area() / (dx_si * dx_si);
+  r.surface_element_name = immersed ? "markers" : "boundary cells";
   r.steps = checked_steps(s, r.plan);
 
   MemoryInputs memory;
   memory.cells = r.cells;
   memory.lattice = s.lattice;
   memory.precision = s.precision;
-  const double box_side = 2.0 * (s.shape->bounding_radius() / dx_si + ibm::support_half_width(s.kernel)) + 2.0;
+  const double reach = coupling::coupling_reach_cells(coupling::coupling_options(s));
+  const double box_side = 2.0 * (s.shape->bounding_radius() / dx_si + reach) + 2.0;
   memory.body_box_cells = box_side * box_side * box_side;
-  memory.markers = r.markers;
+  memory.surface_elements = r.surface_elements;
   memory.samples = sample_count(s, r.steps);
   memory.velocity_field_per_sample = s.motion == body::MotionKind::fixed;
   r.memory = estimate_memory(memory);

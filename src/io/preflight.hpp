@@ -17,8 +17,8 @@
 //     far enough from the walls for the cells its coupling works on, and outside the wall-contact
 //     spring's reach (the last two are the Simulation's own rules: coupling::check_body_box_in_grid
 //     and coupling::start_wall_contact);
-//  6. markers and steps: at most a million surface markers, a step count that t = n dt counts
-//     exactly;
+//  6. surface elements and steps: at most a million immersed-boundary surface markers, a step
+//     count that t = n dt counts exactly;
 //  7. the output directory: creatable and writable (nothing is created here).
 // Preflight only reads: it allocates nothing proportional to the grid and writes no file.
 #include <array>
@@ -55,7 +55,7 @@ struct MemoryEstimate {
   double force_bytes = 0.0;           ///< 3 per-cell force arrays of the storage type
   double flag_bytes = 0.0;            ///< one forced-cell flag byte per cell
   double boundary_links_bytes = 0.0;  ///< the AA copy lists: two 16-byte entries per boundary link
-  double body_bytes = 0.0;            ///< the box of cells around the body and its markers
+  double body_bytes = 0.0;            ///< the box of cells around the body and its surface elements
   double output_bytes = 0.0;          ///< samples kept for the summary; a fixed body's velocity field
   double total_bytes() const;
 };
@@ -65,8 +65,9 @@ struct MemoryInputs {
   std::array<int, 3> cells{};
   lbm::LatticeKind lattice = lbm::LatticeKind::D3Q19;
   lbm::Precision precision = lbm::kDefaultPrecision;
-  double body_box_cells = 0.0;             ///< cells of the box around the body (radius + stencil)
-  double markers = 0.0;                    ///< surface and interior markers
+  double body_box_cells = 0.0;  ///< cells of the box around the body (radius + coupling_reach_cells)
+  /// Immersed boundary: surface and interior markers; momentum exchange: boundary cells.
+  double surface_elements = 0.0;
   double samples = 0.0;                    ///< timeseries rows the run keeps in memory
   bool velocity_field_per_sample = false;  ///< fixed bodies sample the superficial velocity
 };
@@ -135,7 +136,12 @@ struct PreflightReport {
   std::array<int, 3> cells{};
   double cell_count = 0.0;
   double steps = 0.0;
-  double markers = 0.0;  ///< estimated: surface area / dx^2, plus the interior lattice if any
+  /// Estimated: surface area / dx^2, the momentum exchange's boundary cells or the immersed
+  /// boundary's surface markers, with the latter's interior lattice if any.
+  double surface_elements = 0.0;
+  std::string surface_element_name = "boundary cells";  ///< what surface_elements counts, plural
+  /// "about N boundary cells" (or markers), for the console.
+  std::string surface_text() const;
   MemoryEstimate memory;
   std::optional<double> memory_budget_bytes;  ///< nullopt: unknown (no /proc/meminfo)
   std::string memory_budget_source;

@@ -357,10 +357,11 @@ TEST_F(MalformedInput, ParticleTooCloseToAWallForTheForcingStencil) {
 }
 
 TEST_F(MalformedInput, ParticleInsideTheWallContactDistance) {
-  // One cell of water under the sphere: enough for the stencil, but inside the wall-contact
-  // spring's reach (1.5 cells): refused (coupling::start_wall_contact, the rule the preflight and the
-  // Simulation constructor share), leaving the results directory untouched.
-  expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 6.25e-4]'", {"particle.position", "wall-contact"});
+  // 0.8 cells (0.1 mm) of water under the sphere: enough for the momentum exchange's links (more
+  // than half a cell), but inside the wall-contact spring's reach (one cell): refused
+  // (coupling::start_wall_contact, the rule the preflight and the Simulation constructor share),
+  // leaving the results directory untouched.
+  expect_refused_set("--set 'particle.position=[2e-3, 2e-3, 6e-4]'", {"particle.position", "wall-contact"});
 }
 
 TEST_F(MalformedInput, ParticleCentreOutsideTheDomain) {

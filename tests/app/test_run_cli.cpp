@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -52,8 +53,9 @@ void expect_run_directory(const fs::path& dir, bool coefficients) {
   for (const char* key : {"terminal_velocity", "terminal_vertical_velocity", "reynolds", "drag_coefficient", "galileo",
                           "regime", "cells", "dx", "dt", "tau", "steps", "wall_seconds", "mlups", "timing"})
     EXPECT_TRUE(summary.contains(key)) << key;
+  // Both callers' cases couple by the momentum exchange, whose sub-steps 2 and 3 are its own.
   for (const char* step :
-       {"body_predictor", "markers", "forcing", "fluid", "hydrodynamic_force", "body_corrector", "moving_window"})
+       {"body_predictor", "body_mapping", "refill", "fluid", "hydrodynamic_force", "body_corrector", "moving_window"})
     EXPECT_TRUE(summary["timing"].contains(step)) << step;
   if (coefficients) {
     EXPECT_TRUE(summary.contains("lift_coefficient"));
@@ -180,9 +182,48 @@ TEST(RunCli, QuietPrintsNothingButWarnings) {
   EXPECT_EQ(quiet.err, "");
   const Result normal = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1");
   ASSERT_EQ(normal.status, 0) << normal.err;
-  for (const char* step : {"body_predictor", "markers", "forcing", "fluid", "hydrodynamic_force", "body_corrector"})
+  for (const char* step : {"body_predictor", "body_mapping", "refill", "fluid", "hydrodynamic_force", "body_corrector"})
     EXPECT_NE(normal.err.find(step), std::string::npos) << step;
   EXPECT_EQ(run_settle("-o " + dir.string() + " --quiet --verbose").status, 2);
+  fs::remove_all(dir);
+}
+
+std::string lower_case(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+// The momentum exchange (the default coupling) has no markers, and its run says none: neither its
+// console (--verbose: every line) nor its summary.json names them, but for the keys kept for one
+// release beside their new names (docs/user-guide.md, "summary.json"), which must carry the new
+// keys' numbers: `markers` (surface_elements, the wall links) and the timing of `markers` and
+// `forcing` (body_mapping and refill). The immersed boundary keeps its words.
+TEST(RunCli, AMomentumExchangeRunNamesNoMarkersButItsDeprecatedKeys) {
+  const fs::path dir = scratch("vocabulary");
+  const Result r = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 --verbose");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(lower_case(r.err).find("marker"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" wall links, "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" boundary cells; "), std::string::npos) << r.err;
+  auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
+  EXPECT_EQ(summary["coupling"], "momentum_exchange");
+  EXPECT_GT(summary["surface_elements"].get<long>(), 0);
+  EXPECT_EQ(summary["markers"], summary["surface_elements"]);
+  EXPECT_EQ(summary["timing"]["markers"], summary["timing"]["body_mapping"]);
+  EXPECT_EQ(summary["timing"]["forcing"], summary["timing"]["refill"]);
+  summary.erase("markers");
+  summary["timing"].erase("markers");
+  summary["timing"].erase("forcing");
+  EXPECT_EQ(lower_case(summary.dump()).find("marker"), std::string::npos) << summary.dump(2);
+
+  const Result immersed = run_settle(
+      "-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 --set 'numerics.coupling=\"immersed_boundary\"'");
+  ASSERT_EQ(immersed.status, 0) << immersed.err;
+  EXPECT_NE(immersed.err.find(" markers, "), std::string::npos) << immersed.err;
+  const auto ib = nlohmann::json::parse(read_text(dir / "summary.json"));
+  EXPECT_EQ(ib["markers"], ib["surface_elements"]);
+  for (const char* step : {"markers", "forcing"}) EXPECT_TRUE(ib["timing"].contains(step)) << step;
+  for (const char* step : {"body_mapping", "refill"}) EXPECT_FALSE(ib["timing"].contains(step)) << step;
   fs::remove_all(dir);
 }
 
@@ -205,8 +246,8 @@ TEST(RunCli, ReferenceKeyIsCopiedIntoTheSummary) {
 
 // The default spheroid (polar half-length 1 mm, d_eq = 1.26 mm, dx = d_eq / 8 = 0.1575 mm) upright
 // with its lowest point 3 cells above the floor, in a fixed window so that contact is on. The
-// stencil needs 1 cell (roma3), so only the contact start rule can refuse it: the spring reaches
-// 5 cells, and 2 W / k is about 1e-9 m (k = m pi^2 / (10 dt)^2), far below a cell.
+// momentum exchange's links need half a cell, so only the contact start rule can refuse it: the
+// spring reaches 5 cells, and 2 W / k is about 1e-9 m (k = m pi^2 / (10 dt)^2), far below a cell.
 const char* kNearFloor =
     "--set domain.follow_particle=false --set particle.euler=[0,0,0] "
     "--set particle.position=[3.78e-3,3.78e-3,1.4725e-3] --set run.end_time=0.0025 --threads 1";
@@ -234,17 +275,20 @@ TEST(RunCli, ContactKeysOutOfRangeExitTwo) {
   const Result wet = run_settle("-o " + scratch("e").string() + " --set contact.wet_stokes_scale=-1");
   EXPECT_EQ(wet.status, 2);
   EXPECT_NE(wet.err.find("wet_stokes_scale"), std::string::npos) << wet.err;
-  // 1.2 cells is inside the schema's range [1, 1000] but below peskin4's bound 2 - 0.5 = 1.5.
-  const Result r = run_settle("-o " + scratch("e").string() + " " + kNearFloor +
-                              " --set 'numerics.delta_kernel=\"peskin4\"' --set contact.distance_cells=1.2");
+  // 1.2 cells is inside the schema's range [0.5, 1000] but below the immersed boundary's bound
+  // with peskin4, 2 - 0.5 = 1.5 (the momentum exchange's is 1 - 0.5, whatever the kernel).
+  const Result r =
+      run_settle("-o " + scratch("e").string() + " " + kNearFloor +
+                 " --set 'numerics.coupling=\"immersed_boundary\"' --set 'numerics.delta_kernel=\"peskin4\"'"
+                 " --set contact.distance_cells=1.2");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("contact.distance_cells"), std::string::npos) << r.err;
 }
 
 // The contact columns follow the existing ones (never renamed). In the near-floor start (3 cells
-// above the floor, default reach 1.5 cells) the body is out of the spring's reach in 10 steps
-// (it sinks about 2e-6 m: 1/2 a t^2 with a ~ 0.6 m/s^2, t = 2.5 ms): zero contact force, and a
-// finite gap close to the start's 3 cells.
+// above the floor, the momentum exchange's default contact distance 1 cell) the body is out of
+// the spring's reach in 10 steps (it sinks about 2e-6 m: 1/2 a t^2 with a ~ 0.6 m/s^2, t = 2.5
+// ms): zero contact force, and a finite gap close to the start's 3 cells.
 TEST(RunCli, TimeseriesCarriesContactForceAndWallGap) {
   const fs::path dir = scratch("contact_columns");
   ASSERT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor).status, 0);

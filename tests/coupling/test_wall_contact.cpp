@@ -203,8 +203,13 @@ TEST(WallContact, WiredOnlyWhereABodyCanReachAWall) {
     // Walls at the grid's faces, where the half-way bounce-back puts them: z = 0 and z = cells dx.
     EXPECT_EQ(sim.wall_contact()->walls()[0].offset_si, 0.0);
     EXPECT_NEAR(-sim.wall_contact()->walls()[1].offset_si, sim.derived().cells[2] * sim.units().dx_si(), 1e-18);
-    // Default contact distance: the roma3 kernel's half-width, 1.5 cells.
-    EXPECT_NEAR(sim.wall_contact()->parameters().contact_distance_si, 1.5 * sim.units().dx_si(), 1e-18);
+    // Default contact distance: the reach of the momentum exchange's links, one cell
+    // (coupling_reach_cells); the immersed boundary's is its kernel's half-width.
+    EXPECT_NEAR(sim.wall_contact()->parameters().contact_distance_si, 1.0 * sim.units().dx_si(), 1e-18);
+    SimulationSetup immersed = setup;
+    immersed.coupling = CouplingKind::immersed_boundary;
+    EXPECT_NEAR(Simulation(immersed).wall_contact()->parameters().contact_distance_si, 1.5 * sim.units().dx_si(),
+                1e-18);
   }
   setup.follow_particle = true;
   EXPECT_FALSE(Simulation(setup).wall_contact().has_value());  // the window keeps the body off the faces
@@ -232,14 +237,21 @@ TEST(WallContact, RefusesParametersAndStartsThatCannotWork) {
   refused([](SimulationSetup& s) { s.contact_restitution = 0.0; }, "contact.restitution");
   refused([](SimulationSetup& s) { s.contact_restitution = 1.5; }, "contact.restitution");
   refused([](SimulationSetup& s) { s.contact_collision_steps = 0.5; }, "contact.collision_steps");
-  // Below h - 1/2 = 1 cell a resting body's stencils would leave the grid.
-  refused([](SimulationSetup& s) { s.contact_distance_cells = 0.9; }, "contact.distance_cells");
-  // Starting 1.2 cells above the floor, inside the 1.5-cell contact distance.
+  // Below reach - 1/2 (coupling_reach_cells) a resting body's links would leave the grid: half a
+  // cell for the momentum exchange, 1 cell for the immersed boundary's roma3 stencils.
+  refused([](SimulationSetup& s) { s.contact_distance_cells = 0.4; }, "contact.distance_cells");
+  refused(
+      [](SimulationSetup& s) {
+        s.coupling = CouplingKind::immersed_boundary;
+        s.contact_distance_cells = 0.9;
+      },
+      "contact.distance_cells");
+  // Starting 0.8 cells above the floor, inside the 1-cell contact distance.
   const double dx = d / base.cells_per_diameter;
-  refused([&](SimulationSetup& s) { s.initial.position_si.z() = 0.5 * d + 1.2 * dx; }, "particle.position");
+  refused([&](SimulationSetup& s) { s.initial.position_si.z() = 0.5 * d + 0.8 * dx; }, "particle.position");
   // Resting on the floor at the static gap is a valid start.
   SimulationSetup resting = base;
-  resting.initial.position_si.z() = 0.5 * d + 1.5 * dx - 1e-3 * dx;
+  resting.initial.position_si.z() = 0.5 * d + 1.0 * dx - 1e-3 * dx;
   EXPECT_NO_THROW(Simulation{resting});
 }
 

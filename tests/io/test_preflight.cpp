@@ -13,6 +13,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -21,7 +22,10 @@
 #include "body/ellipsoid.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
+#include "io/case.hpp"
+#include "io/case_schema.hpp"
 #include "io/preflight.hpp"
+#include "io/schema.hpp"
 #include "io/window_advice.hpp"
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
@@ -328,8 +332,9 @@ TEST(Preflight, ReportsTheGridAndStepTheSimulationUses) {
   EXPECT_EQ(r.cells, sim.derived().cells);
   // The surface-area estimate of the marker count used for the 1e6 bound: the Fibonacci
   // markers of a sphere have about one cell^2 each, so within 10% of area / dx^2.
-  EXPECT_NEAR(r.markers / static_cast<double>(sim.derived().marker_count), 1.0, 0.1);
+  EXPECT_NEAR(r.surface_elements / static_cast<double>(sim.derived().surface_element_count), 1.0, 0.1);
   EXPECT_TRUE(contains(r.summary(), "grid 32x32x48")) << r.summary();
+  EXPECT_TRUE(contains(r.summary(), " markers; ")) << r.summary();
 }
 
 TEST(Preflight, CountsInteriorMarkersInTheEstimate) {
@@ -342,10 +347,63 @@ TEST(Preflight, CountsInteriorMarkersInTheEstimate) {
   // Surface (about area / dx^2) plus the interior lattice, whose inner-sphere volume estimate is
   // exact for a sphere; what is left is the lattice's count of points in a sphere of 6.5 cells
   // radius (a few percent) and the surface count's 10% of the test above.
-  const double built = static_cast<double>(sim.derived().marker_count);
-  EXPECT_NEAR(r.markers / built, 1.0, 0.1) << r.markers << " estimated, " << built << " built";
+  const double built = static_cast<double>(sim.derived().surface_element_count);
+  EXPECT_NEAR(r.surface_elements / built, 1.0, 0.1) << r.surface_elements << " estimated, " << built << " built";
   s.interior_markers = false;
-  EXPECT_GT(r.markers, 1.8 * preflight(s).markers);  // the interior roughly doubles them here
+  EXPECT_GT(r.surface_elements, 1.8 * preflight(s).surface_elements);  // the interior roughly doubles them here
+}
+
+// The run warns that a key only the immersed boundary reads "has no effect" under the momentum
+// exchange (io::unsupported_key_warnings); that stays true of what the preflight and the wall
+// contact derive from the set-up: each such key changed leaves the report (its memory estimate
+// with the body's box, its surface count) and the contact distance exactly as they were. The
+// immersed boundary's own kernel does move them, so the comparison can fail.
+TEST(Preflight, KeysTheMomentumExchangeIgnoresChangeNothingItDerives) {
+  const std::string base =
+      "[fluid]\ndensity = 1000\ndynamic_viscosity = 1e-3\n[particle]\nshape = \"sphere\"\ndiameter = 1e-3\n"
+      "density = 2500\nposition = [4e-3, 4e-3, 4e-3]\n[domain]\nsize = [8e-3, 8e-3, 8e-3]\n"
+      "follow_particle = false\n[run]\nend_time = 1e-3\n[numerics]\ncells_per_diameter = 8\n";
+  struct Derived {
+    PreflightReport report;
+    double contact_distance_si;
+  };
+  const auto derived = [&base](const std::string& numerics) {
+    const CaseValues values = parse_case(case_schema(), base + numerics, "case.toml");
+    const coupling::SimulationSetup s = simulation_setup(values, ".", "c");
+    PreflightOptions options;
+    options.memory_budget_bytes = 1e12;  // the machine's free memory plays no part
+    PreflightReport report = preflight(s, options);
+    const double dx = report.plan.units.dx_si();
+    const auto contact = coupling::start_wall_contact(s, dx, report.plan.units.dt_si(), report.cells, {0, 0, 0});
+    return std::make_pair(Derived{std::move(report), contact->parameters().contact_distance_si},
+                          unsupported_key_warnings(values));
+  };
+  const auto [plain, no_warning] = derived("");
+  ASSERT_TRUE(no_warning.empty());
+  const double dx = plain.report.plan.units.dx_si();
+  // One cell: the reach of the links (coupling::coupling_reach_cells), not a kernel's half-width.
+  EXPECT_DOUBLE_EQ(plain.contact_distance_si, 1.0 * dx);
+  EXPECT_EQ(plain.report.surface_element_name, "boundary cells");
+  for (const char* key : {"delta_kernel = \"peskin4\"\n", "forcing_iterations = 5\n", "marker_retraction = 0.3\n",
+                          "interior_markers = true\n"}) {
+    const auto [changed, warnings] = derived(key);
+    ASSERT_EQ(warnings.size(), 1u) << key;
+    EXPECT_TRUE(contains(warnings[0], "no effect")) << warnings[0];
+    EXPECT_EQ(changed.contact_distance_si, plain.contact_distance_si) << key;
+    EXPECT_EQ(changed.report.memory.body_bytes, plain.report.memory.body_bytes) << key;
+    EXPECT_EQ(changed.report.memory.total_bytes(), plain.report.memory.total_bytes()) << key;
+    EXPECT_EQ(changed.report.surface_elements, plain.report.surface_elements) << key;
+    EXPECT_EQ(changed.report.summary(), plain.report.summary()) << key;
+  }
+  // Under the immersed boundary the kernel is read: peskin4's half-width of 2 cells against
+  // roma3's 1.5, in the contact distance and in the box of the memory estimate.
+  const std::string immersed = "coupling = \"immersed_boundary\"\n";
+  const auto [roma3, w1] = derived(immersed);
+  const auto [peskin4, w2] = derived(immersed + "delta_kernel = \"peskin4\"\n");
+  EXPECT_DOUBLE_EQ(roma3.contact_distance_si, 1.5 * dx);
+  EXPECT_DOUBLE_EQ(peskin4.contact_distance_si, 2.0 * dx);
+  EXPECT_GT(peskin4.report.memory.body_bytes, roma3.report.memory.body_bytes);
+  EXPECT_EQ(roma3.report.surface_element_name, "markers");
 }
 
 TEST(Preflight, NonFiniteNumbersInACodeBuiltSetupAreNamed) {
