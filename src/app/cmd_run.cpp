@@ -54,6 +54,7 @@
 #include "lbm/decomposition.hpp"
 #include "lbm/solver.hpp"
 #include "parallel/communicator.hpp"
+#include "settle/version.hpp"
 
 namespace settle::app {
 namespace {
@@ -183,6 +184,8 @@ nlohmann::json run_json(const coupling::Simulation& sim, const coupling::RunResu
   const auto& d = sim.derived();
   const auto& p = sim.plan();
   nlohmann::json j;
+  j["settle_version"] = settle::version_string;
+  j["settle_commit"] = settle::commit_string;
   j["case"] = sim.setup().name;
   j["motion"] = motion_name(sim.body().motion_kind());
   j["cells"] = d.cells[0] * static_cast<long long>(d.cells[1]) * d.cells[2];
@@ -488,7 +491,9 @@ void run_case(const RunOptions& options) {
         inputs = restart->inputs();
       } else {
         const io::CaseValues resolved = with_mesh_copied_into(values, base, dir);
-        resolved_case = io::write_resolved_toml(resolved) + derived_block(sim);
+        resolved_case =
+            fmt::format("# written by settle {} (commit {})\n", settle::version_string, settle::commit_string) +
+            io::write_resolved_toml(resolved) + derived_block(sim);
         inputs = input_files_of(resolved, dir);
       }
       write_file_atomically(dir / "case.resolved.toml", resolved_case);

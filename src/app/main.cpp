@@ -33,8 +33,8 @@ int fail_alone(int code) {
 int main(int argc, char** argv) {
   settle::ignore_file_size_signal();  // a write past ulimit -f fails (EFBIG) and is reported
   CLI::App app{"settle: resolved simulation of rigid particles of any shape settling in a quiescent fluid"};
-  app.set_version_flag("--version",
-                       fmt::format("settle {}, {}", settle::version_string, settle::parallel::mpi_library_version()));
+  app.set_version_flag("--version", fmt::format("settle {} (commit {}), {}", settle::version_string,
+                                                settle::commit_string, settle::parallel::mpi_library_version()));
   app.require_subcommand(1);
   settle::app::add_attitude_command(app);
   settle::app::add_shape_command(app);

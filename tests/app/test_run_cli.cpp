@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -64,6 +65,15 @@ void expect_run_directory(const fs::path& dir, bool coefficients) {
   EXPECT_GT(summary["steps"].get<long>(), 0);
   EXPECT_TRUE(std::isfinite(summary["drag_coefficient"].get<double>()));
   EXPECT_NE(read_text(dir / "case.resolved.toml").find("# [derived]"), std::string::npos);
+  // The build that wrote the run, as `settle --version` names it: a 40-digit commit or "unknown".
+  const std::string commit = summary["settle_commit"].get<std::string>();
+  EXPECT_TRUE(commit == "unknown" || std::regex_match(commit, std::regex("[0-9a-f]{40}"))) << commit;
+  const std::string version = summary["settle_version"].get<std::string>();
+  EXPECT_NE(settle::test::run_settle("--version", "").out.find(version + " (commit " + commit + ")"),
+            std::string::npos);
+  EXPECT_EQ(
+      read_text(dir / "case.resolved.toml").rfind("# written by settle " + version + " (commit " + commit + ")\n", 0),
+      0u);
 }
 
 TEST(RunCli, FixedSphereCaseWritesTheContractFiles) {
