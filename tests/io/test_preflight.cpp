@@ -492,12 +492,12 @@ TEST(Preflight, WarnsOfACellReynoldsNumberAboveFifteenOnly) {
 
 // Under the default numerics (TRT, subgrid model "auto") the warning adds how far settling spheres
 // were from the standard drag curve at the case's grid, the coarser measured row for a grid between
-// rows (8 and 12 cells per diameter in docs/lbm.md's table); other numerics, or a grid coarser than
+// rows (8, 12 and 16 cells per diameter in docs/lbm.md's table); other numerics, or a grid coarser than
 // the table, get no such figure.
 TEST(Preflight, TheCellReynoldsWarningGivesTheMeasuredDeviationOfTheDefaultNumerics) {
   coupling::SimulationSetup s = small_setup();
   s.motion = body::MotionKind::towed;
-  s.initial.velocity_si = {0.0, 0.0, -0.5};  // Re 500 in water: cell Reynolds number above 15 at 8-12 cells
+  s.initial.velocity_si = {0.0, 0.0, -0.5};  // Re 500 in water: cell Reynolds number above 15 at 8-16 cells
   s.collision = lbm::CollisionKind::trt;
   s.subgrid_model = lbm::SubgridModel::automatic;
   const auto cell_warning = [](const coupling::SimulationSetup& setup) {
@@ -514,6 +514,10 @@ TEST(Preflight, TheCellReynoldsWarningGivesTheMeasuredDeviationOfTheDefaultNumer
   s.cells_per_diameter = 12.0;
   EXPECT_TRUE(contains(cell_warning(s), "fell -7.1% to +0.9% from the standard drag curve at 12 cells"))
       << cell_warning(s);
+  s.cells_per_diameter = 16.0;
+  EXPECT_TRUE(contains(cell_warning(s), "at Ga 250-600 fell -2.8% to -0.7% from the standard drag curve at 16 cells"))
+      << cell_warning(s);
+  s.cells_per_diameter = 12.0;
   s.subgrid_model = lbm::SubgridModel::none;
   EXPECT_FALSE(contains(cell_warning(s), "standard drag curve")) << cell_warning(s);
   s.subgrid_model = lbm::SubgridModel::automatic;
