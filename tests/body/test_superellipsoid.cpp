@@ -264,11 +264,12 @@ TEST_P(SuperellipsoidExponents, SurfaceCrossingIsTheRootOfTheGauge) {
     worst = std::max(worst, std::abs(t - bisected_crossing(s, outside, inside)) * cosine);
     EXPECT_NEAR(t, bisected_crossing(s, outside, inside), 1e-12 / cosine) << x.transpose();
     // The base class stops where |signed distance| < 1e-9 of the link: in t that is 1e-9 over the
-    // distance's slope along the link, which near an edge follows the nearer face, not `cosine`.
-    const double h = 1e-6;
-    const double slope =
-        std::abs(s.signed_distance(outside + (t + h) * link) - s.signed_distance(outside + (t - h) * link)) /
-        (2.0 * h * link.norm());
+    // distance's slope along the link, which near an edge or a vertex follows the nearer face, not
+    // `cosine`, and differs on the two sides of the root (the smaller one bounds it).
+    const double h = 1e-6, d0 = s.signed_distance(outside + t * link);
+    const double slope = std::min(std::abs(s.signed_distance(outside + (t + h) * link) - d0),
+                                  std::abs(d0 - s.signed_distance(outside + (t - h) * link))) /
+                         (h * link.norm());
     EXPECT_NEAR(t, s.Shape::surface_crossing(outside, inside), 1e-9 / std::min(slope, cosine) + 1e-12) << x.transpose();
   }
   std::printf("%s: %d links, |t - bisected| cos <= %.1e\n", param.name, tested, worst);
