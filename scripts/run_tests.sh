@@ -6,8 +6,9 @@
 #   sanitizers  build the debug preset with clang (AddressSanitizer + UndefinedBehaviorSanitizer on
 #               the library and the front end; the fuzz targets in the same tree) and run the unit
 #               and case tests but the `heavy` ones (scripts/run_sanitizer_tests.sh)
-#   fuzz        link the libFuzzer targets of that build and fuzz the case parser and the STL
-#               reader for 20 s each (scripts/fuzz.sh; docs/fuzzing.md)
+#   fuzz        link the libFuzzer targets of that build and fuzz the case parser, --set, the
+#               study file and the STL reader for 15 s each, one per core at a time (scripts/fuzz.sh;
+#               docs/fuzzing.md)
 # Both builds make compiler warnings errors (SETTLE_WERROR=ON; off by default for users).
 # On the 2-core development machine, 2026-11-27 to 29, from a clean clone: about 4-9, 7-13 and 1 minutes (680-1160 s in all, idle)
 # (docs/notes.md, "The test command's time").
@@ -35,7 +36,7 @@ for stage in $stages; do
       ctest --preset release
       ;;
     sanitizers) bash scripts/run_sanitizer_tests.sh -DSETTLE_WERROR=ON ;;
-    fuzz) bash scripts/fuzz.sh 20 ;;
+    fuzz) bash scripts/fuzz.sh 15 ;;
   esac
 done
 echo "run_tests: all stages passed: $stages ($(date -u +%T))"

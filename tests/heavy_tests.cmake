@@ -47,6 +47,7 @@ set_tests_properties(
   FreeSettling.SphereReachesTheStandardDragCurveAndStaysSymmetric  # 575 / 69
   RunCli.StopsAtTheTerminalStateTheAnalysisFinds                   # 170 / 14
   RestartCli.TerminatedRunExits143WithACheckpointAndNoSummary      # 42 / 3.0
+  RestartCli.RandomKillsContinueToTheUninterruptedResult           # 38 / 2.5 (2026-12-07, a loaded machine; six runs)
   AnalyzeCli.BrokenRunDirectoriesAreRefusedNamingTheCulprit        # 38 / 3.7
   AnalyzeCli.ViscousRunReachesASteadyObliqueTerminalState          # 36 / 3.9
   # The validation cases' grids hold 6-8 million cells (four times a ten Cate grid, whose five

@@ -104,16 +104,18 @@ std::vector<std::string> collision_key_warnings(const CaseValues& v) {
 // leaves room for such files while keeping a stream without end from exhausting the memory.
 constexpr std::size_t kMaxCaseFileBytes = std::size_t{64} << 20;
 
-std::string read_file(const std::filesystem::path& path) {
+}  // namespace
+
+std::string read_toml_file(const std::filesystem::path& path, std::string_view what) {
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
-  if (!std::filesystem::exists(status)) throw InputError(fmt::format("{}: no such case file", path.string()));
+  if (!std::filesystem::exists(status)) throw InputError(fmt::format("{}: no such {}", path.string(), what));
   // An ifstream opens a directory without complaint and reads nothing, which would silently
   // run the defaults.
   if (std::filesystem::is_directory(status))
-    throw InputError(fmt::format("{}: is a directory, not a case file (TOML)", path.string()));
+    throw InputError(fmt::format("{}: is a directory, not a {} (TOML)", path.string(), what));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the case file (permission?)", path.string()));
+  if (!in) throw InputError(fmt::format("{}: cannot open the {} (permission?)", path.string(), what));
   // Read in pieces up to a bound: /dev/zero (or any endless stream) used to be read forever, the
   // memory growing by 250 MB/s. A pipe (/dev/stdin) is still read, up to the bound.
   std::string text;
@@ -121,12 +123,14 @@ std::string read_file(const std::filesystem::path& path) {
   while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
     text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
     if (text.size() > kMaxCaseFileBytes)
-      throw InputError(fmt::format("{}: more than {} MiB, not a case file (a case is a few kilobytes of TOML)",
-                                   path.string(), kMaxCaseFileBytes >> 20));
+      throw InputError(fmt::format("{}: more than {} MiB, not a {} (a {} is a few kilobytes of TOML)", path.string(),
+                                   kMaxCaseFileBytes >> 20, what, what));
   }
-  if (in.bad()) throw InputError(fmt::format("{}: could not read the case file", path.string()));
+  if (in.bad()) throw InputError(fmt::format("{}: could not read the {}", path.string(), what));
   return text;
 }
+
+namespace {
 
 // The mesh reader names the file it read, not the case key; a user fixing the case needs both.
 std::unique_ptr<body::Shape> shape_of(const CaseValues& v, const body::ShapeSpec& spec,
@@ -184,7 +188,7 @@ body::ShapeSpec shape_spec(const CaseValues& v) {
 
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
   CaseValues values = path.empty() ? parse_case(case_schema(), kDefaultCase, "built-in default case")
-                                   : parse_case(case_schema(), read_file(path), path.string());
+                                   : parse_case(case_schema(), read_toml_file(path, "case file"), path.string());
   for (const std::string& assignment : overrides) apply_override(values, assignment);
   // After the overrides: --set may choose the preset, its temperature or an explicit value.
   apply_fluid_preset(values);

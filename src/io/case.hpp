@@ -18,6 +18,11 @@ namespace settle::io {
 /// problem.
 CaseValues load_case(const std::filesystem::path& path, const std::vector<std::string>& overrides);
 
+/// The text of a TOML input file (`what`: "case file", "study file", named in messages), read up
+/// to 64 MiB: settle::InputError for a missing file, a directory, an unreadable or a larger one
+/// (an endless stream such as /dev/zero included).
+std::string read_toml_file(const std::filesystem::path& path, std::string_view what);
+
 /// As load_case, for a case given as TOML text (`origin` names it in messages), without overrides.
 CaseValues load_case_text(std::string_view toml_text, std::string_view origin);
 

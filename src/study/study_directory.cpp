@@ -24,20 +24,6 @@ nlohmann::ordered_json value_json(const io::Value& value) {
   return std::visit([](const auto& v) { return nlohmann::ordered_json(v); }, value);
 }
 
-// The case as `settle run` reads it. A relative mesh path becomes absolute: the case file lives
-// in the study directory, not beside the mesh.
-std::string case_text(const StudySpec& spec, const StudyCase& c) {
-  io::CaseValues values = c.values;
-  if (values.has("particle.file")) {
-    const fs::path mesh = values.string("particle.file");
-    if (mesh.is_relative())
-      values.set("particle.file", io::Value(fs::weakly_canonical(spec.base_directory / mesh).string()), "study");
-  }
-  return fmt::format("# Case {} of the study {} ({}): {}\n", c.index, spec.name, spec.study_file.string(),
-                     describe_inputs(c.inputs)) +
-         io::write_resolved_toml(values);
-}
-
 nlohmann::ordered_json plan_json(const StudySpec& spec, const std::vector<StudyCase>& cases) {
   nlohmann::ordered_json plan;
   plan["study"] = spec.name;
@@ -67,16 +53,39 @@ int first_difference(const fs::path& dir, const std::vector<std::string>& texts)
   return -1;
 }
 
+// A comment line stays one line: a control character in the study file's path becomes '?' (the
+// study's name holds none: read_study refuses it). Ordinary text is kept byte for byte, so a
+// directory prepared by an earlier build still holds "this study".
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == '\x7f') c = '?';
+  return text;
+}
+
 }  // namespace
 
 std::string case_folder(int index) { return fmt::format("case_{:04d}", index); }
+
+// A relative mesh path becomes absolute: the case file lives in the study directory, not beside
+// the mesh.
+std::string case_file_text(const StudySpec& spec, const StudyCase& c) {
+  io::CaseValues values = c.values;
+  if (values.has("particle.file")) {
+    const fs::path mesh = values.string("particle.file");
+    if (mesh.is_relative())
+      values.set("particle.file", io::Value(fs::weakly_canonical(spec.base_directory / mesh).string()), "study");
+  }
+  return fmt::format("# Case {} of the study {} ({}): {}\n", c.index, spec.name, one_line(spec.study_file.string()),
+                     describe_inputs(c.inputs)) +
+         io::write_resolved_toml(values);
+}
 
 namespace {
 
 std::vector<std::string> case_texts(const StudySpec& spec, const std::vector<StudyCase>& cases) {
   std::vector<std::string> texts;
   texts.reserve(cases.size());
-  for (const StudyCase& c : cases) texts.push_back(case_text(spec, c));
+  for (const StudyCase& c : cases) texts.push_back(case_file_text(spec, c));
   return texts;
 }
 

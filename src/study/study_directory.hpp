@@ -17,6 +17,11 @@ namespace settle::study {
 /// The folder of case `index` inside the study directory ("case_0007").
 std::string case_folder(int index);
 
+/// The text of a case's case.toml: a comment line naming the case, the study and its inputs, then
+/// the case resolved (io::write_resolved_toml), a relative mesh path made absolute; `settle run`
+/// reads it back to the case's values.
+std::string case_file_text(const StudySpec& spec, const StudyCase& c);
+
 /// Reads `dir` (changes nothing): settle::InputError when it holds another study (a case.toml that
 /// differs from this study's), naming the first case that differs.
 void check_study_directory(const StudySpec& spec, const std::vector<StudyCase>& cases,

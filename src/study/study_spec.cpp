@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -11,6 +10,7 @@
 #include "common/error.hpp"
 #include "io/case.hpp"
 #include "io/case_schema.hpp"
+#include "io/fluid_presets.hpp"
 #include "study/derived_inputs.hpp"
 
 // GCC 12 reports the moves of io::Value (a std::variant holding a std::vector) in this file as
@@ -27,16 +27,6 @@ namespace fs = std::filesystem;
 
 // A study of more cases than this is almost surely a typo in a range (a step of 0.001 for 0.1).
 constexpr std::size_t kMaxCases = 100000;
-
-std::string read_text(const fs::path& path, std::string_view what) {
-  std::error_code error;
-  if (!fs::is_regular_file(path, error)) throw InputError(fmt::format("{}: no such file ({})", path.string(), what));
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(fmt::format("{}: cannot read the {}", path.string(), what));
-  return text.str();
-}
 
 std::string node_text(const toml::node& node) {
   std::ostringstream out;
@@ -184,7 +174,7 @@ void read_base(const toml::table& root, const fs::path& file, StudySpec& spec) {
     const auto relative = path->value<std::string>();
     if (!relative) throw InputError(fmt::format("{}: study.base: expected a path (a string)", origin));
     const fs::path base_file = fs::weakly_canonical(file.parent_path() / *relative);
-    spec.base_case_text = read_text(base_file, "study.base: the base case");
+    spec.base_case_text = io::read_toml_file(base_file, "case file");
     spec.base_origin = base_file.string();
     spec.base_directory = base_file.parent_path();
   } else {
@@ -194,6 +184,22 @@ void read_base(const toml::table& root, const fs::path& file, StudySpec& spec) {
     spec.base_origin = origin + " [base]";
     spec.base_directory = file.parent_path();
   }
+}
+
+// The name heads each case.toml and the Slurm script in a comment line, and names the Slurm job: a
+// control character (a newline) there made every case.toml unreadable and put the rest of the
+// name into the script as a command.
+void read_name(const toml::table& root, const fs::path& file, StudySpec& spec) {
+  const std::string origin = file.string();
+  const toml::node* node = root.at_path("study.name").node();
+  if (node && !node->is_string())
+    throw InputError(fmt::format("{}: study.name = {}: expected a string", origin, node_text(*node)));
+  spec.name = node ? *node->value<std::string>() : file.stem().string();
+  if (std::any_of(spec.name.begin(), spec.name.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == '\x7f'; }))
+    throw InputError(fmt::format("{}: {} {}: holds a control character; a study's name is one line of text", origin,
+                                 node ? "study.name =" : "the study's name (the file's stem, no study.name given)",
+                                 io::to_toml(io::Value(spec.name))));
 }
 
 void read_orientations(const toml::table& root, const std::string& origin, StudySpec& spec) {
@@ -248,14 +254,16 @@ io::CaseValues build_case(const StudySpec& spec, const io::CaseValues& base,
                    [](auto* a, auto* b) { return derived_rank(a->first) < derived_rank(b->first); });
   const std::string origin = spec.study_file.string() + " [vary]";
   if (attitude) set_attitude(values, *attitude);
-  for (const auto* input : ordered) {
-    const auto& [name, value] = *input;
-    if (name == kOrientationInput) continue;  // set above, from the ensemble
-    if (is_derived_input(name))
-      set_derived_input(values, name, as_number(value, name), spec.base_directory);
-    else
-      values.set(name, as_kind(value, io::case_schema().find(name)->kind), origin);
-  }
+  for (const auto* input : ordered)
+    if (input->first != kOrientationInput && !is_derived_input(input->first))
+      values.set(input->first, as_kind(input->second, io::case_schema().find(input->first)->kind), origin);
+  // After the case keys, as `settle run` applies it after --set: a varied fluid.temperature or
+  // fluid.preset must change the fluid (applied to the base before them, every case kept the
+  // base's density and viscosity); before the derived inputs, which read them.
+  io::apply_fluid_preset(values);
+  for (const auto* input : ordered)
+    if (is_derived_input(input->first))
+      set_derived_input(values, input->first, as_number(input->second, input->first), spec.base_directory);
   return values;
 }
 
@@ -288,10 +296,13 @@ void check_conflicts(const StudySpec& spec) {
 }  // namespace
 
 StudySpec read_study(const fs::path& study_file) {
+  return parse_study(io::read_toml_file(study_file, "study file"), study_file);
+}
+
+StudySpec parse_study(std::string_view text, const fs::path& study_file) {
   StudySpec spec;
   spec.study_file = fs::absolute(study_file);
   const std::string origin = study_file.string();
-  const std::string text = read_text(study_file, "study file");
   toml::table root;
   try {
     root = toml::parse(text, origin);
@@ -302,7 +313,7 @@ StudySpec read_study(const fs::path& study_file) {
   check_known_keys(root, {"study", "base", "vary", "orientations"}, origin);
   if (const toml::table* study = root["study"].as_table())
     check_known_keys(*study, {"name", "base"}, origin + ": [study]");
-  spec.name = root.at_path("study.name").value_or(study_file.stem().string());
+  read_name(root, study_file, spec);
   read_base(root, spec.study_file, spec);
   if (const toml::table* vary = root["vary"].as_table()) {
     std::vector<std::pair<toml::source_position, Variation>> found;
@@ -324,7 +335,8 @@ std::string describe_inputs(const std::vector<std::pair<std::string, io::Value>>
 }
 
 std::vector<StudyCase> expand(const StudySpec& spec) {
-  const io::CaseValues base = io::load_case_text(spec.base_case_text, spec.base_origin);
+  // The fluid preset is applied to each case (build_case), not to the base.
+  const io::CaseValues base = io::parse_case(io::case_schema(), spec.base_case_text, spec.base_origin);
   std::size_t total = spec.orientations.count > 0 ? static_cast<std::size_t>(spec.orientations.count) : 1;
   for (const Variation& v : spec.variations) {
     total *= v.values.size();

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -37,6 +38,10 @@ struct StudySpec {
 
 /// Reads and checks a study file. settle::InputError names the file and the key.
 StudySpec read_study(const std::filesystem::path& study_file);
+
+/// As read_study, for the study file's text: `study_file` names it in messages and is where its
+/// relative paths (study.base) start; it need not exist.
+StudySpec parse_study(std::string_view text, const std::filesystem::path& study_file);
 
 /// The input that numbers a case's attitude in an orientation ensemble (0 to count - 1).
 inline constexpr const char* kOrientationInput = "orientation";
