@@ -5,7 +5,8 @@
 #               preset, run the unit and case tests (labels unit|case)
 #   sanitizers  build the debug preset with clang (AddressSanitizer + UndefinedBehaviorSanitizer on
 #               the library and the front end; the fuzz targets in the same tree) and run the unit
-#               and case tests but the `heavy` ones (scripts/run_sanitizer_tests.sh)
+#               and case tests but the heavy ones, by their recorded seconds there
+#               (scripts/run_sanitizer_tests.sh, tests/sanitizer_test_seconds.txt)
 #   fuzz        link the libFuzzer targets of that build and fuzz the case parser, --set, the
 #               study file and the STL reader for 15 s each, one per core at a time (scripts/fuzz.sh;
 #               docs/fuzzing.md)
