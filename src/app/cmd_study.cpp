@@ -11,13 +11,16 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <fmt/core.h>
 
 #include "app/commands.hpp"
 #include "app/flag_values.hpp"
 #include "app/python_child.hpp"
+#include "app/slurm_script.hpp"
 #include "common/atomic_file.hpp"
+#include "common/build_info.hpp"
 #include "common/error.hpp"
 #include "common/file_lock.hpp"
 #include "study/study_directory.hpp"
@@ -40,6 +43,7 @@ struct StudyRunOptions {
   int threads = 0;  // 0: the cores shared out among the jobs
   bool dry_run = false;
   std::string emit;
+  std::vector<std::string> sbatch_options;  // KEY=VALUE, with --emit slurm
 };
 
 struct StudyTaskOptions {
@@ -65,26 +69,6 @@ int default_threads(int jobs) {
   return std::max(1, cores / std::max(1, jobs));
 }
 
-// A Slurm job array of the prepared study: task i runs case i with `settle study task`.
-std::string slurm_script(const fs::path& dir, const std::string& study, std::size_t cases, int threads) {
-  const fs::path absolute = fs::absolute(dir);
-  return fmt::format(
-      "#!/bin/bash\n"
-      "# The study {} as a Slurm job array, one task a case (written by `settle study run --emit slurm`).\n"
-      "# Submit from any folder: sbatch {}. Each task runs its case in {}/case_NNNN as\n"
-      "# `settle study run` would (resuming from a checkpoint); gather with `settle study collect {}`.\n"
-      "#SBATCH --job-name=settle-{}\n"
-      "#SBATCH --array=0-{}\n"
-      "#SBATCH --ntasks=1\n"
-      "#SBATCH --cpus-per-task={}\n"
-      "#SBATCH --output={}/slurm_%A_%a.log\n"
-      "set -euo pipefail\n"
-      "export OMP_PROC_BIND=close OMP_PLACES=cores\n"
-      "exec {} study task {} --index \"${{SLURM_ARRAY_TASK_ID}}\" --threads \"${{SLURM_CPUS_PER_TASK:-{}}}\"\n",
-      study, (absolute / "slurm_array.sh").string(), absolute.string(), absolute.string(), study, cases - 1, threads,
-      absolute.string(), this_executable().string(), absolute.string(), threads);
-}
-
 // One `settle study run` at a time per study directory: two would each start the cases the other
 // is running, find their run locks held and report them failed (both exiting 3), and write the
 // same status files. Taken before the directory is prepared, held until the command ends.
@@ -101,6 +85,16 @@ FileLock take_study_lock(const fs::path& dir) {
   return std::move(*lock);
 }
 
+// A -march=native binary may stop with an illegal instruction on a cluster node of another CPU.
+void warn_if_tuned_to_this_cpu() {
+  if (!build_info().native_cpu) return;
+  std::fprintf(stderr,
+               "settle study: warning: %s is built for this machine's CPU (-march=native); on cluster nodes of "
+               "another CPU it may stop with an illegal instruction: build the release preset on the cluster, or "
+               "the native preset on a node like those the jobs run on\n",
+               this_executable().string().c_str());
+}
+
 void print_plan(const std::vector<study::StudyCase>& cases) {
   for (const study::StudyCase& c : cases)
     std::printf("%s  %s\n", study::case_folder(c.index).c_str(), study::describe_inputs(c.inputs).c_str());
@@ -110,6 +104,8 @@ void run_study_command(const StudyRunOptions& o) {
   if (o.jobs < 1) throw InputError(fmt::format("--jobs: {} is not >= 1", o.jobs));
   check_thread_count(o.threads, "--threads");
   if (!o.emit.empty() && o.emit != "slurm") throw InputError(fmt::format("--emit: \"{}\" is not slurm", o.emit));
+  if (!o.sbatch_options.empty() && o.emit != "slurm") throw InputError("--sbatch: only with --emit slurm");
+  for (const std::string& option : o.sbatch_options) check_sbatch_option(option);
   const study::StudySpec spec = study::read_study(o.study_file);
   const std::vector<study::StudyCase> cases = study::expand(spec);  // every case checked before anything runs
   const int threads = o.threads > 0 ? o.threads : default_threads(o.jobs);
@@ -121,11 +117,17 @@ void run_study_command(const StudyRunOptions& o) {
   if (o.output_dir.empty()) throw InputError("-o: required (the study's directory)");
   const fs::path dir = o.output_dir;
   study::check_study_directory(spec, cases, dir);  // refuses another study's directory, touching nothing
+  // The script is built (and its path checked) before anything is written.
+  const std::string script_text = o.emit == "slurm"
+                                      ? slurm_array_script({fs::absolute(dir), this_executable(), spec.name,
+                                                            cases.size(), threads, o.sbatch_options})
+                                      : std::string();
   const FileLock lock = take_study_lock(dir);
   study::prepare_study_directory(spec, cases, dir);
   if (o.emit == "slurm") {
     const fs::path script = dir / "slurm_array.sh";
-    write_file_atomically(script, slurm_script(dir, spec.name, cases.size(), threads));
+    write_file_atomically(script, script_text);
+    warn_if_tuned_to_this_cpu();
     fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
     std::printf("%s\n", script.string().c_str());
     return;
@@ -199,6 +201,11 @@ void add_run(CLI::App& study) {
   cmd->add_option("--emit", o->emit,
                   "slurm: prepare the directory and write DIR/slurm_array.sh (a job array, one task a case) "
                   "instead of running");
+  cmd->add_option("--sbatch", o->sbatch_options,
+                  "with --emit slurm: a scheduler option KEY=VALUE written as #SBATCH --KEY=VALUE "
+                  "(repeat it: --sbatch time=04:00:00 --sbatch partition=cpu --sbatch account=lab --sbatch mem=8G)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->callback([o] { run_study_command(*o); });
 }
 

@@ -196,24 +196,43 @@ TEST(StudyCli, ASecondStudyRunIntoALiveStudysDirectoryIsRefused) {
   EXPECT_EQ(state_of(out / "case_0001"), "done");
 }
 
-// The job-array script's task command, run here without Slurm for task 1.
+// The job-array script's task command, run here without Slurm for task 1, from a directory whose
+// name holds a space and a quote (the script quotes its paths); the scheduler's options as given.
 TEST(StudyCli, TheSlurmScriptsTaskRunsItsCase) {
   const fs::path dir = fresh_dir("study_slurm");
   std::ofstream(dir / "study.toml") << study_text("reynolds = [5, 10]", 0.02);
-  const fs::path out = dir / "out";
-  const CliResult r =
-      run_settle("study", "run " + (dir / "study.toml").string() + " -o " + out.string() + " --emit slurm");
+  const fs::path out = dir / "my study's out";
+  const CliResult r = run_settle("study", "run " + (dir / "study.toml").string() + " -o \"" + out.string() +
+                                              "\" --emit slurm --sbatch time=01:30:00 --sbatch partition=cpu");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string script = read_text(out / "slurm_array.sh");
   EXPECT_NE(script.find("#SBATCH --array=0-1\n"), std::string::npos) << script;
+  EXPECT_NE(script.find("#SBATCH --time=01:30:00\n#SBATCH --partition=cpu\n"), std::string::npos) << script;
   std::smatch exec_line;
   ASSERT_TRUE(std::regex_search(script, exec_line, std::regex("\nexec ([^\n]*)\n"))) << script;
+  // The exec line goes to bash through a file: quoting it again for sh -c would test the test.
+  std::ofstream(dir / "task.sh") << exec_line[1].str() << "\n";
   const std::string command =
-      "SLURM_ARRAY_TASK_ID=1 SLURM_CPUS_PER_TASK=1 sh -c '" + exec_line[1].str() + "' 2>/dev/null";
+      "SLURM_ARRAY_TASK_ID=1 SLURM_CPUS_PER_TASK=1 bash " + (dir / "task.sh").string() + " 2>/dev/null";
   EXPECT_EQ(std::system(command.c_str()), 0);
   EXPECT_EQ(state_of(out / "case_0001"), "done");
   EXPECT_EQ(state_of(out / "case_0000"), "pending");
   EXPECT_TRUE(fs::exists(out / "case_0001" / "summary.json"));
+}
+
+// A scheduler option the script sets itself, or one that is not KEY=VALUE, is refused before the
+// directory is prepared.
+TEST(StudyCli, AnSbatchOptionTheScriptSetsOrAMalformedOneIsRefused) {
+  const fs::path dir = fresh_dir("study_sbatch");
+  std::ofstream(dir / "study.toml") << study_text("reynolds = [5, 10]", 0.02);
+  const std::string run = "run " + (dir / "study.toml").string() + " -o " + (dir / "out").string() + " --emit slurm";
+  const CliResult sets = run_settle("study", run + " --sbatch array=0-9");
+  EXPECT_EQ(sets.status, 2);
+  EXPECT_NE(sets.err.find("--sbatch: array is set by the script"), std::string::npos) << sets.err;
+  const CliResult malformed = run_settle("study", run + " --sbatch time");
+  EXPECT_EQ(malformed.status, 2);
+  EXPECT_NE(malformed.err.find("is not KEY=VALUE"), std::string::npos) << malformed.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 }  // namespace test_study_cli
