@@ -15,6 +15,7 @@ packages=(
   libgtest-dev libgmock-dev googletest   # tests
   libbenchmark-dev      # micro-benchmarks
   libopenmpi-dev openmpi-bin             # one run across many processes (docs/parallel.md)
+  zlib1g-dev            # compressed VTK output
   python3-matplotlib python3-numpy       # `settle plot`
 )
 # `--clang`: the sanitizer build's compiler (CMakePresets.json, debug), libFuzzer and clang's OpenMP

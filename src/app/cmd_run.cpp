@@ -268,8 +268,9 @@ void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary) {
 // solid fraction, surface_NNNNNN.vtp, and the two .pvd collections ParaView plays as time series.
 class VtkOutput {
  public:
-  VtkOutput(const coupling::Simulation& sim, const fs::path& dir, double interval_si)
+  VtkOutput(const coupling::Simulation& sim, const fs::path& dir, double interval_si, io::VtkCompression compression)
       : sim_(sim),
+        compression_(compression),
         dir_(dir / "vtk"),
         schedule_(interval_si),
         // Triangles about a cell wide: the surface at the resolution the fluid sees.
@@ -288,6 +289,7 @@ class VtkOutput {
     const std::string index = fmt::format("{:06d}", count_++);
     io::VtkOptions options;
     options.time_si = t_si;
+    options.compression = compression_;
     const bool split = sim_.communicator().size() > 1;
     const fs::path fluid_file = dir_ / ("fluid_" + index + (split ? ".pvti" : ".vti"));
     const io::FieldScaling scaling = io::field_scaling(sim_.units(), sim_.frame().window_origin_si);
@@ -318,6 +320,7 @@ class VtkOutput {
 
  private:
   const coupling::Simulation& sim_;
+  io::VtkCompression compression_;
   fs::path dir_;
   coupling::OutputSchedule schedule_;
   body::TriangleMesh surface_b_;
@@ -530,7 +533,8 @@ void run_case(const RunOptions& options) {
       if (s.t_si >= analysis::released_from(sim.setup().release_time_si)) terminal->add(s.t_si, s.velocity_si);
   std::optional<VtkOutput> vtk;
   if (values.real("run.vtk_interval") > 0.0) {
-    vtk.emplace(sim, dir, values.real("run.vtk_interval"));
+    vtk.emplace(sim, dir, values.real("run.vtk_interval"),
+                values.string("run.vtk_compression") == "zlib" ? io::VtkCompression::zlib : io::VtkCompression::none);
     if (restart) vtk->resume(restart->vtk(), restart->time_si());
     callbacks.after_step = [&vtk](double t_si, double dt_si) { vtk->after_step(t_si, dt_si); };
   }

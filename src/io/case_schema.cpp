@@ -194,6 +194,8 @@ std::vector<KeySpec> declare() {
       real("run.output_interval", Value(0.005), "s", non_negative(),
            "interval of timeseries.csv rows (0 = every step)"),
       real("run.vtk_interval", Value(0.0), "s", non_negative(), "interval of VTK output (0 = none)"),
+      choice("run.vtk_compression", "zlib", {"zlib", "none"},
+             "encoding of the VTK files' arrays: zlib (deflated blocks, what ParaView writes) or none (raw bytes)"),
       boolean("run.stop_at_terminal", false, "end once the terminal state is reached"),
       real("run.checkpoint_interval", Value(0.0), "s", non_negative(),
            "simulated time between checkpoints in DIR/checkpoint.bin (0 = none; SIGINT or SIGTERM writes one anyway)"),

@@ -10,9 +10,11 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 
 #include <fmt/core.h>
+#include <zlib.h>
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
@@ -108,17 +110,6 @@ struct AppendedArray {
   }
 };
 
-/// Offsets of the arrays in the appended block, counted from the byte after its '_'.
-std::vector<std::uint64_t> appended_offsets(const std::vector<const AppendedArray*>& arrays) {
-  std::vector<std::uint64_t> offsets;
-  std::uint64_t offset = 0;
-  for (const AppendedArray* array : arrays) {
-    offsets.push_back(offset);
-    offset += sizeof(std::uint64_t) + array->byte_count();
-  }
-  return offsets;
-}
-
 std::string triple(const Eigen::Vector3d& v) {
   return fmt::format("{} {} {}", vtk_number(v(0)), vtk_number(v(1)), vtk_number(v(2)));
 }
@@ -132,12 +123,85 @@ std::string data_array_tag(const AppendedArray& array, std::uint64_t offset, boo
   return tag;
 }
 
+/// Writes the array's values (in the machine's byte order) and checks their count.
+void emit_values(std::ostream& out, const AppendedArray& array) {
+  ValueStream values(out, array.type);
+  array.emit(values);
+  values.flush();
+  const std::size_t expected = array.tuples * static_cast<std::size_t>(array.components);
+  if (values.values_written() != expected)
+    throw std::logic_error(
+        fmt::format("VTK array {}: wrote {} values, declared {}", array.name, values.values_written(), expected));
+}
+
+std::string raw_bytes(const AppendedArray& array) {
+  std::ostringstream out;
+  emit_values(out, array);
+  return std::move(out).str();
+}
+
+template <class T>
+void append_bytes(std::string& out, const T& value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+/// VTK's default block size of compressed arrays (vtkDataCompressor).
+constexpr std::size_t kCompressedBlockBytes = 32768;
+/// zlib's fastest level: on float fields the higher levels shrink the files by a few per cent
+/// more at several times the cost (docs/vtk.md).
+constexpr int kZlibLevel = Z_BEST_SPEED;
+
+/// The opening of a VTK XML file; `attributes` go on the VTKFile element.
+std::string file_header(const char* type, std::string_view attributes = "") {
+  return fmt::format(
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\"{}>\n",
+      type, vtk_byte_order(), attributes);
+}
+
+/// The array as VTK's compressed block (vtk.hpp): header, then the deflated blocks.
+std::string zlib_block(const std::string& raw) {
+  const std::size_t blocks = (raw.size() + kCompressedBlockBytes - 1) / kCompressedBlockBytes;
+  std::vector<std::string> deflated(blocks);
+  // Blocks deflate independently, one thread each: deflate, not the disk, is the slow part of a
+  // compressed snapshot (docs/vtk.md).
+  bool failed = false;
+#pragma omp parallel for schedule(static) reduction(|| : failed)
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t first = b * kCompressedBlockBytes;
+    const std::size_t size = std::min(kCompressedBlockBytes, raw.size() - first);
+    uLongf length = compressBound(static_cast<uLong>(size));
+    deflated[b].resize(length);
+    failed = failed || compress2(reinterpret_cast<Bytef*>(deflated[b].data()), &length,
+                                 reinterpret_cast<const Bytef*>(raw.data() + first), static_cast<uLong>(size),
+                                 kZlibLevel) != Z_OK;
+    deflated[b].resize(length);
+  }
+  if (failed) throw std::runtime_error("zlib: compress2 failed on a VTK array block");
+  std::string out;
+  append_bytes(out, static_cast<std::uint64_t>(blocks));
+  append_bytes(out, static_cast<std::uint64_t>(kCompressedBlockBytes));
+  append_bytes(out, static_cast<std::uint64_t>(raw.size() % kCompressedBlockBytes));
+  for (const std::string& block : deflated) append_bytes(out, static_cast<std::uint64_t>(block.size()));
+  for (const std::string& block : deflated) out += block;
+  return out;
+}
+
 /// The XML of one file, with the DataArray tags of `arrays` placed by the caller through
-/// tag(); then the appended data in the same order.
+/// tag(); then the appended data in the same order. Raw arrays are streamed at write(); compressed
+/// ones are encoded here, since their offsets in the tags depend on their compressed sizes.
 class VtkFileWriter {
  public:
-  explicit VtkFileWriter(std::vector<const AppendedArray*> arrays)
-      : arrays_(std::move(arrays)), offsets_(appended_offsets(arrays_)) {}
+  VtkFileWriter(std::vector<const AppendedArray*> arrays, VtkCompression compression)
+      : arrays_(std::move(arrays)), compression_(compression) {
+    if (compression_ == VtkCompression::zlib)
+      for (const AppendedArray* array : arrays_) encoded_.push_back(zlib_block(raw_bytes(*array)));
+    std::uint64_t offset = 0;
+    for (std::size_t i = 0; i < arrays_.size(); ++i) {
+      offsets_.push_back(offset);
+      offset +=
+          compression_ == VtkCompression::zlib ? encoded_[i].size() : sizeof(std::uint64_t) + arrays_[i]->byte_count();
+    }
+  }
 
   std::string tag(const AppendedArray& array, bool field_data = false) const {
     for (std::size_t i = 0; i < arrays_.size(); ++i)
@@ -145,38 +209,36 @@ class VtkFileWriter {
     throw std::logic_error("VtkFileWriter: array not registered: " + array.name);
   }
 
+  /// The VTKFile element's opening line for a dataset of this type.
+  std::string header(const char* type) const {
+    return file_header(type, compression_ == VtkCompression::zlib ? R"( compressor="vtkZLibDataCompressor")" : "");
+  }
+
   /// Writes `xml` (everything up to the dataset's closing tag) and the appended block.
   void write(const fs::path& path, const std::string& xml) const {
     AtomicFile file(path);
     std::ostream& out = file.stream();
     out << xml << "  <AppendedData encoding=\"raw\">\n   _";
-    for (const AppendedArray* array : arrays_) write_block(out, *array);
+    if (compression_ == VtkCompression::zlib)
+      for (const std::string& block : encoded_) out.write(block.data(), static_cast<std::streamsize>(block.size()));
+    else
+      for (const AppendedArray* array : arrays_) write_raw_block(out, *array);
     out << "\n  </AppendedData>\n</VTKFile>\n";
     file.commit();
   }
 
  private:
-  static void write_block(std::ostream& out, const AppendedArray& array) {
+  static void write_raw_block(std::ostream& out, const AppendedArray& array) {
     const std::uint64_t bytes = array.byte_count();
     out.write(reinterpret_cast<const char*>(&bytes), sizeof bytes);
-    ValueStream values(out, array.type);
-    array.emit(values);
-    values.flush();
-    const std::size_t expected = array.tuples * static_cast<std::size_t>(array.components);
-    if (values.values_written() != expected)
-      throw std::logic_error(
-          fmt::format("VTK array {}: wrote {} values, declared {}", array.name, values.values_written(), expected));
+    emit_values(out, array);
   }
 
   std::vector<const AppendedArray*> arrays_;
+  VtkCompression compression_;
+  std::vector<std::string> encoded_;  // zlib only
   std::vector<std::uint64_t> offsets_;
 };
-
-std::string file_header(const char* type) {
-  return fmt::format(
-      "<?xml version=\"1.0\"?>\n<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n", type,
-      vtk_byte_order());
-}
 
 std::optional<AppendedArray> time_array(const VtkOptions& options) {
   if (!options.time_si) return std::nullopt;
@@ -257,10 +319,10 @@ void write_fluid_image(const fs::path& path, const FluidPiece& piece, std::vecto
   std::vector<const AppendedArray*> order;
   if (time) order.push_back(&*time);
   for (const AppendedArray& array : point_data) order.push_back(&array);
-  const VtkFileWriter writer(order);
+  const VtkFileWriter writer(order, options.compression);
 
   const std::string whole = extent_text({0, 0, 0}, piece.whole);
-  std::string xml = file_header("ImageData");
+  std::string xml = writer.header("ImageData");
   xml += fmt::format("  <ImageData WholeExtent=\"{}\" Origin=\"{}\" Spacing=\"{}\">\n", whole,
                      triple(points_origin_si(scaling)), triple(Eigen::Vector3d::Constant(scaling.dx_si)));
   xml += field_data_xml(writer, time);
@@ -410,9 +472,9 @@ void write_surface_vtp(const fs::path& path, const body::TriangleMesh& surface_b
   std::vector<const AppendedArray*> order;
   if (time) order.push_back(&*time);
   for (const AppendedArray* array : {&velocity, &points, &connectivity, &offsets}) order.push_back(array);
-  const VtkFileWriter writer(order);
+  const VtkFileWriter writer(order, options.compression);
 
-  std::string xml = file_header("PolyData");
+  std::string xml = writer.header("PolyData");
   xml += "  <PolyData>\n";
   xml += field_data_xml(writer, time);
   xml += fmt::format(

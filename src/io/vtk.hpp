@@ -5,10 +5,13 @@
 // https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html; also in the VTK User's
 // Guide, Kitware).
 //
-// Every file is self-contained XML with one block of raw binary "appended" data at the end: each
-// array is a UInt64 byte count followed by its values in the machine's byte order, which the
-// header declares (byte_order="LittleEndian" on x86-64 and ARM). Raw binary keeps files small and
-// fast to write and read; ParaView reads it directly.
+// Every file is self-contained XML with one block of binary "appended" data at the end, the
+// values in the machine's byte order, which the header declares (byte_order="LittleEndian" on
+// x86-64 and ARM). Raw (VtkCompression::none): each array is a UInt64 byte count followed by its
+// values. Compressed (VtkCompression::zlib, compressor="vtkZLibDataCompressor", what ParaView
+// writes itself): each array is cut into blocks of 32 KiB (VTK's default block size), each block
+// deflated by zlib on its own, and preceded by the UInt64 header [blocks, block size, size of
+// the last block if partial (0 if full), each block's compressed size].
 //
 // Units: SI throughout (m, s, m/s, Pa, 1/s). Frames: the inertial frame of the case (z up).
 // Every file is written atomically and durably (common/atomic_file.hpp), so a reader or a run that
@@ -38,11 +41,19 @@ enum class VtkPrecision {
   float64,
 };
 
+/// Encoding of the appended arrays (file comment).
+enum class VtkCompression {
+  none,  ///< raw bytes: fastest to write
+  zlib,  ///< deflated blocks: smaller where the field is smooth or uniform; slower to write
+};
+
 struct VtkOptions {
   VtkPrecision precision = VtkPrecision::float32;
   /// Simulated time (s), written as the field-data array "TimeValue" that ParaView shows when the
   /// file is opened on its own (a .pvd carries the time anyway).
   std::optional<double> time_si;
+  /// The writer's encoding when a caller asks for none; a run takes run.vtk_compression.
+  VtkCompression compression = VtkCompression::none;
 };
 
 /// How the lattice fields map to SI, and where the grid sits. Lattice units: dx = dt = 1,

@@ -60,7 +60,8 @@ class ScratchDirectory {
 };
 
 /// The blocks tile the appended data with no gap or overlap, in the order of the header, each
-/// holding tuples x components values of its type; the file ends right after the last block.
+/// holding tuples x components values of its type (decompressed, for a compressed file); the file
+/// ends right after the last block.
 void expect_consistent_blocks(const ParsedVtk& parsed, const std::map<std::string, std::size_t>& tuples) {
   std::uint64_t expected_offset = 0;
   for (const ParsedArray& array : parsed.arrays) {
@@ -69,7 +70,7 @@ void expect_consistent_blocks(const ParsedVtk& parsed, const std::map<std::strin
     EXPECT_EQ(array.byte_count,
               tuples.at(array.name) * static_cast<std::size_t>(array.components) * type_size(array.type))
         << array.name;
-    expected_offset = array.offset + 8 + array.byte_count;
+    expected_offset = array.offset + array.stored_bytes;
   }
   EXPECT_EQ(parsed.appended.size(), expected_offset + kTrailer.size());
   EXPECT_EQ(parsed.appended.substr(expected_offset), kTrailer);
@@ -130,67 +131,94 @@ TEST(VtkFluid, HeaderBlocksAndValuesRoundTrip) {
   std::vector<ScalarPointField> extra{{"marker", std::vector<double>(cells)}};
   for (std::size_t n = 0; n < cells; ++n) extra[0].values[n] = 0.5 + static_cast<double>(n);
 
-  for (const VtkPrecision precision : {VtkPrecision::float32, VtkPrecision::float64}) {
-    SCOPED_TRACE(precision == VtkPrecision::float32 ? "float32" : "float64");
-    const fs::path path = scratch.path() / "fluid.vti";
-    write_fluid_vti(path, *fluid, scaling, {precision, 0.125}, extra);
-    EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
-    const ParsedVtk parsed = parse_vtk(path);
+  for (const VtkCompression compression : {VtkCompression::none, VtkCompression::zlib})
+    for (const VtkPrecision precision : {VtkPrecision::float32, VtkPrecision::float64}) {
+      SCOPED_TRACE(precision == VtkPrecision::float32 ? "float32" : "float64");
+      SCOPED_TRACE(compression == VtkCompression::zlib ? "zlib" : "raw");
+      const fs::path path = scratch.path() / "fluid.vti";
+      write_fluid_vti(path, *fluid, scaling, {precision, 0.125, compression}, extra);
+      EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
+      const ParsedVtk parsed = parse_vtk(path);
 
-    expect_file_header(parsed, "ImageData");
-    const auto image = element_attributes(parsed.xml, "ImageData");
-    EXPECT_EQ(image.at("WholeExtent"), "0 5 0 4 0 3");
-    EXPECT_EQ(element_attributes(parsed.xml, "Piece").at("Extent"), "0 5 0 4 0 3");
-    // The text round-trips a double exactly (shortest representation); the origin itself is the
-    // sum window origin + dx/2, one rounding (1e-16 relative) away from the exact value.
-    const Eigen::Vector3d origin = parse_triple(image.at("Origin"));
-    const Eigen::Vector3d expected_origin = scaling.window_origin_si + Eigen::Vector3d::Constant(0.5e-4);
-    EXPECT_LT((origin - expected_origin).norm(), 1e-15);
-    EXPECT_EQ(parse_triple(image.at("Spacing")), Eigen::Vector3d::Constant(scaling.dx_si));
+      expect_file_header(parsed, "ImageData");
+      const auto image = element_attributes(parsed.xml, "ImageData");
+      EXPECT_EQ(image.at("WholeExtent"), "0 5 0 4 0 3");
+      EXPECT_EQ(element_attributes(parsed.xml, "Piece").at("Extent"), "0 5 0 4 0 3");
+      // The text round-trips a double exactly (shortest representation); the origin itself is the
+      // sum window origin + dx/2, one rounding (1e-16 relative) away from the exact value.
+      const Eigen::Vector3d origin = parse_triple(image.at("Origin"));
+      const Eigen::Vector3d expected_origin = scaling.window_origin_si + Eigen::Vector3d::Constant(0.5e-4);
+      EXPECT_LT((origin - expected_origin).norm(), 1e-15);
+      EXPECT_EQ(parse_triple(image.at("Spacing")), Eigen::Vector3d::Constant(scaling.dx_si));
 
-    ASSERT_EQ(parsed.arrays.size(), 5u);
-    const std::vector<std::string> names{"TimeValue", "velocity", "pressure", "vorticity", "marker"};
-    const std::vector<std::string> sections{"FieldData", "PointData", "PointData", "PointData", "PointData"};
-    const std::vector<int> components{1, 3, 1, 3, 1};
-    const std::string float_type = precision == VtkPrecision::float32 ? "Float32" : "Float64";
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      EXPECT_EQ(parsed.arrays[i].name, names[i]);
-      EXPECT_EQ(parsed.arrays[i].section, sections[i]);
-      EXPECT_EQ(parsed.arrays[i].components, components[i]);
-      EXPECT_EQ(parsed.arrays[i].type, i == 0 ? "Float64" : float_type);
-    }
-    expect_consistent_blocks(
-        parsed, {{"TimeValue", 1}, {"velocity", cells}, {"pressure", cells}, {"vorticity", cells}, {"marker", cells}});
-    EXPECT_EQ(values_of(parsed.array("TimeValue")), std::vector<double>{0.125});
+      ASSERT_EQ(parsed.arrays.size(), 5u);
+      const std::vector<std::string> names{"TimeValue", "velocity", "pressure", "vorticity", "marker"};
+      const std::vector<std::string> sections{"FieldData", "PointData", "PointData", "PointData", "PointData"};
+      const std::vector<int> components{1, 3, 1, 3, 1};
+      const std::string float_type = precision == VtkPrecision::float32 ? "Float32" : "Float64";
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        EXPECT_EQ(parsed.arrays[i].name, names[i]);
+        EXPECT_EQ(parsed.arrays[i].section, sections[i]);
+        EXPECT_EQ(parsed.arrays[i].components, components[i]);
+        EXPECT_EQ(parsed.arrays[i].type, i == 0 ? "Float64" : float_type);
+      }
+      expect_consistent_blocks(
+          parsed,
+          {{"TimeValue", 1}, {"velocity", cells}, {"pressure", cells}, {"vorticity", cells}, {"marker", cells}});
+      EXPECT_EQ(values_of(parsed.array("TimeValue")), std::vector<double>{0.125});
 
-    const std::vector<double> velocity = values_of(parsed.array("velocity"));
-    const std::vector<double> pressure = values_of(parsed.array("pressure"));
-    const std::vector<double> vorticity = values_of(parsed.array("vorticity"));
-    const std::vector<double> marker = values_of(parsed.array("marker"));
-    const double rounding = storage_rounding(precision);
-    // The solver recovers rho and u from its populations with round-off of ~1e-16 of their
-    // magnitudes (rho ~ 1, u ~ 0.03); 1e-14 of the largest SI value leaves a wide margin for
-    // that, while storage adds one rounding (relative `rounding`) per value. A swapped component,
-    // a wrong scale or a misplaced cell is off by far more.
-    const double velocity_scale = scaling.dx_si / scaling.dt_si;
-    const double pressure_scale = scaling.fluid_density_si * velocity_scale * velocity_scale;
-    const double velocity_floor = 1e-14 * 0.03 * velocity_scale;
-    const double pressure_floor = 1e-14 * pressure_scale;
-    for (int z = 0; z < 4; ++z)
-      for (int y = 0; y < 5; ++y)
-        for (int x = 0; x < 6; ++x) {
-          const std::size_t n = fluid->linear_index(x, y, z);
-          const Eigen::Vector3d u_si = known_velocity(x, y, z) * velocity_scale;
-          const Eigen::Vector3d w_si = kKnownVorticity / scaling.dt_si;
-          for (int a = 0; a < 3; ++a) {
-            EXPECT_NEAR(velocity[3 * n + a], u_si(a), rounding * std::abs(u_si(a)) + velocity_floor);
-            EXPECT_NEAR(vorticity[3 * n + a], w_si(a), rounding * std::abs(w_si(a)) + velocity_floor / scaling.dx_si);
+      const std::vector<double> velocity = values_of(parsed.array("velocity"));
+      const std::vector<double> pressure = values_of(parsed.array("pressure"));
+      const std::vector<double> vorticity = values_of(parsed.array("vorticity"));
+      const std::vector<double> marker = values_of(parsed.array("marker"));
+      const double rounding = storage_rounding(precision);
+      // The solver recovers rho and u from its populations with round-off of ~1e-16 of their
+      // magnitudes (rho ~ 1, u ~ 0.03); 1e-14 of the largest SI value leaves a wide margin for
+      // that, while storage adds one rounding (relative `rounding`) per value. A swapped component,
+      // a wrong scale or a misplaced cell is off by far more.
+      const double velocity_scale = scaling.dx_si / scaling.dt_si;
+      const double pressure_scale = scaling.fluid_density_si * velocity_scale * velocity_scale;
+      const double velocity_floor = 1e-14 * 0.03 * velocity_scale;
+      const double pressure_floor = 1e-14 * pressure_scale;
+      for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 5; ++y)
+          for (int x = 0; x < 6; ++x) {
+            const std::size_t n = fluid->linear_index(x, y, z);
+            const Eigen::Vector3d u_si = known_velocity(x, y, z) * velocity_scale;
+            const Eigen::Vector3d w_si = kKnownVorticity / scaling.dt_si;
+            for (int a = 0; a < 3; ++a) {
+              EXPECT_NEAR(velocity[3 * n + a], u_si(a), rounding * std::abs(u_si(a)) + velocity_floor);
+              EXPECT_NEAR(vorticity[3 * n + a], w_si(a), rounding * std::abs(w_si(a)) + velocity_floor / scaling.dx_si);
+            }
+            const double p_si = (known_density(x, y, z) - 1.0) / 3.0 * pressure_scale;
+            EXPECT_NEAR(pressure[n], p_si, rounding * std::abs(p_si) + pressure_floor);
+            EXPECT_NEAR(marker[n], extra[0].values[n], rounding * extra[0].values[n]);  // values passed as given
           }
-          const double p_si = (known_density(x, y, z) - 1.0) / 3.0 * pressure_scale;
-          EXPECT_NEAR(pressure[n], p_si, rounding * std::abs(p_si) + pressure_floor);
-          EXPECT_NEAR(marker[n], extra[0].values[n], rounding * extra[0].values[n]);  // values passed as given
-        }
-  }
+    }
+}
+
+// The compressed layout of VTK's documentation: 32 KiB blocks, the last one partial, each
+// inflating to its declared size (the reader checks), the VTKFile element naming the compressor.
+// A fluid at rest is the same value everywhere: deflate stores such a run in a few bytes per block
+// (a back-reference of at most 258 bytes costs about 2 bytes, so 32 KiB needs ~250 bytes), so
+// the compressed velocity is under a tenth of its raw size with a wide margin.
+TEST(VtkFluid, ZlibBlocksFollowVtksLayoutAndShrinkAUniformField) {
+  const ScratchDirectory scratch;
+  lbm::SolverConfig config;
+  config.nx = config.ny = config.nz = 40;
+  const auto fluid = lbm::make_solver(config);
+  fluid->initialise([](int, int, int) { return lbm::CellState{1.0, Eigen::Vector3d::Zero()}; });
+  const fs::path path = scratch.path() / "rest.vti";
+  write_fluid_vti(path, *fluid, test_scaling(), {VtkPrecision::float32, std::nullopt, VtkCompression::zlib}, {});
+  const ParsedVtk parsed = parse_vtk(path);
+  EXPECT_EQ(element_attributes(parsed.xml, "VTKFile").at("compressor"), "vtkZLibDataCompressor");
+  const ParsedArray& velocity = parsed.array("velocity");
+  const std::uint64_t raw_bytes = 40 * 40 * 40 * 3 * 4;  // 768 000 bytes: 23 full blocks and 14 336 bytes
+  EXPECT_EQ(velocity.byte_count, raw_bytes);
+  EXPECT_EQ(velocity.blocks, 24u);
+  EXPECT_LT(velocity.stored_bytes, raw_bytes / 10);
+  for (const double v : values_of(velocity)) ASSERT_EQ(v, 0.0);
+  expect_consistent_blocks(parsed, {{"velocity", 64000}, {"pressure", 64000}, {"vorticity", 64000}});
 }
 
 TEST(VtkFluid, FieldScalingFromTheUnitConverter) {

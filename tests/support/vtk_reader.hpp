@@ -1,6 +1,8 @@
 #pragma once
-// A reader of the VTK XML files settle writes (raw appended data, UInt64 block headers): enough to
-// take a file apart and read its arrays back in tests (tests/io/test_vtk.cpp, tests/app/).
+// A reader of the VTK XML files settle writes (appended data, raw or zlib-compressed, UInt64 block
+// headers): enough to take a file apart and read its arrays back in tests (tests/io/test_vtk.cpp,
+// tests/app/). The compressed layout is read from the VTK file-format documentation, independently
+// of io/vtk.cpp's writer.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -15,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include <zlib.h>
 #include <Eigen/Core>
 
 namespace settle::test::vtk_reader {
@@ -56,8 +59,10 @@ struct ParsedArray {
   std::string name, type, section;  // section: the enclosing FieldData/PointData/Points/Polys
   int components = 1;
   std::uint64_t offset = 0;
-  std::uint64_t byte_count = 0;  // from the block's UInt64 header
-  std::string bytes;             // the block's payload
+  std::uint64_t byte_count = 0;    // the values' size in bytes (uncompressed)
+  std::string bytes;               // the values, decompressed
+  std::uint64_t blocks = 0;        // compressed files: the array's block count
+  std::uint64_t stored_bytes = 0;  // what the array takes in the file, header included
 };
 
 /// A VTK XML file with raw appended data, taken apart.
@@ -75,6 +80,47 @@ struct ParsedVtk {
 
 inline constexpr std::string_view kTrailer = "\n  </AppendedData>\n</VTKFile>\n";
 
+inline std::uint64_t uint64_at(const std::string& data, std::uint64_t at, const std::string& what) {
+  if (at + 8 > data.size()) throw std::runtime_error("header beyond the file: " + what);
+  std::uint64_t value;
+  std::memcpy(&value, data.data() + at, 8);
+  return value;
+}
+
+/// Raw: a UInt64 byte count, then the values.
+inline void read_raw_block(const std::string& appended, ParsedArray& array) {
+  array.byte_count = uint64_at(appended, array.offset, array.name);
+  if (array.offset + 8 + array.byte_count > appended.size())
+    throw std::runtime_error("block beyond the file: " + array.name);
+  array.bytes = appended.substr(array.offset + 8, array.byte_count);
+  array.stored_bytes = 8 + array.byte_count;
+}
+
+/// vtkZLibDataCompressor: UInt64 [blocks, block size, last block's size if partial (0 if full),
+/// each block's compressed size], then the blocks, each deflated on its own.
+inline void read_compressed_block(const std::string& appended, ParsedArray& array) {
+  const std::uint64_t blocks = uint64_at(appended, array.offset, array.name);
+  const std::uint64_t block_size = uint64_at(appended, array.offset + 8, array.name);
+  const std::uint64_t last_size = uint64_at(appended, array.offset + 16, array.name);
+  std::uint64_t at = array.offset + 24 + 8 * blocks;
+  array.blocks = blocks;
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    const std::uint64_t stored = uint64_at(appended, array.offset + 24 + 8 * b, array.name);
+    if (at + stored > appended.size()) throw std::runtime_error("block beyond the file: " + array.name);
+    const uLongf expected = static_cast<uLongf>(b + 1 == blocks && last_size != 0 ? last_size : block_size);
+    uLongf size = expected;
+    std::string values(size, '\0');
+    if (uncompress(reinterpret_cast<Bytef*>(values.data()), &size, reinterpret_cast<const Bytef*>(appended.data() + at),
+                   static_cast<uLong>(stored)) != Z_OK ||
+        size != expected)
+      throw std::runtime_error("zlib cannot inflate a block of " + array.name + " to its declared size");
+    array.bytes += values;
+    at += stored;
+  }
+  array.byte_count = array.bytes.size();
+  array.stored_bytes = at - array.offset;
+}
+
 inline ParsedVtk parse_vtk(const fs::path& path) {
   const std::string content = read_bytes(path);
   const std::string marker = "<AppendedData encoding=\"raw\">";
@@ -83,6 +129,7 @@ inline ParsedVtk parse_vtk(const fs::path& path) {
   const std::size_t underscore = content.find('_', at + marker.size());
   ParsedVtk parsed{content.substr(0, underscore), content.substr(underscore + 1), {}};
 
+  const bool compressed = element_attributes(parsed.xml, "VTKFile")["compressor"] == "vtkZLibDataCompressor";
   static const std::regex tag(R"re(<(FieldData|PointData|CellData|Points|Polys)[\s>]|<DataArray ([^>]*)/>)re");
   std::string section;
   for (auto it = std::sregex_iterator(parsed.xml.begin(), parsed.xml.end(), tag); it != std::sregex_iterator(); ++it) {
@@ -98,11 +145,10 @@ inline ParsedVtk parse_vtk(const fs::path& path) {
     if (attributes.count("NumberOfComponents")) array.components = std::stoi(attributes["NumberOfComponents"]);
     EXPECT_EQ(attributes["format"], "appended") << array.name;
     array.offset = std::stoull(attributes["offset"]);
-    if (array.offset + 8 > parsed.appended.size()) throw std::runtime_error("offset beyond the file: " + array.name);
-    std::memcpy(&array.byte_count, parsed.appended.data() + array.offset, 8);
-    if (array.offset + 8 + array.byte_count > parsed.appended.size())
-      throw std::runtime_error("block beyond the file: " + array.name);
-    array.bytes = parsed.appended.substr(array.offset + 8, array.byte_count);
+    if (compressed)
+      read_compressed_block(parsed.appended, array);
+    else
+      read_raw_block(parsed.appended, array);
     parsed.arrays.push_back(std::move(array));
   }
   return parsed;
