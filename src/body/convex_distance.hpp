@@ -43,7 +43,7 @@
 // an edge or a corner blend the two sides of the kink within 1e-4 rad of it, giving a point on the
 // supporting plane up to 1e-4 of the size off the body, and so limit the accuracy there.
 //
-// Non-convex bodies (meshes; a superellipsoid with exponents above 2 is also not convex) are out of
+// Non-convex bodies (meshes other than convex ones; every analytic shape is convex) are out of
 // scope: a support function only sees a body's convex hull (h is the same for a body and its hull),
 // so a mesh is treated as its hull: hollows and concave pockets are filled, two bodies whose
 // hulls overlap are "in contact" although their surfaces may not touch, and the contact point can
