@@ -94,7 +94,7 @@ bool any_pair_within_reach(const std::vector<RigidBody>& bodies, const std::vect
 
 }  // namespace
 
-void validate(const PairContactParameters& p) {
+void validate_pair_contact(const PairContactParameters& p) {
   if (!(p.restitution > 0.0 && p.restitution <= 1.0))
     throw std::invalid_argument("pair contact: restitution must be in (0, 1]");
   if (!(p.friction_coefficient >= 0.0) || !std::isfinite(p.friction_coefficient))
@@ -157,7 +157,7 @@ PairContactForce pair_contact_force(const ContactBody& a, const ContactBody& b, 
 
 PairContactStep advance_in_contact(std::vector<RigidBody>& bodies, const std::vector<const Shape*>& shapes,
                                    PairSprings& springs, double dt_si, const PairContactParameters& parameters) {
-  validate(parameters);
+  validate_pair_contact(parameters);
   if (shapes.size() != bodies.size() || std::count(shapes.begin(), shapes.end(), nullptr) > 0)
     throw std::invalid_argument("advance_in_contact: one shape per body expected");
   PairContactStep step;

@@ -89,7 +89,7 @@ struct PairContactParameters {
 
 /// Throws std::invalid_argument for e outside (0, 1], mu < 0, T_c <= 0, zeta_c < 0, kappa <= 0 or
 /// fewer than one substep per collision.
-void validate(const PairContactParameters& parameters);
+void validate_pair_contact(const PairContactParameters& parameters);
 
 /// Effective mass (kg) of a frictionless point impact along the unit normal n between two free
 /// bodies of masses m_a, m_b and inverse inertia tensors (inertial, about their centres of mass),

@@ -194,7 +194,7 @@ TEST(PairContactForce, StuckSpringBelowTheCoulombLimitAndCutAboveIt) {
   EXPECT_FALSE(f.touching);
   EXPECT_EQ(f.on_b.force_si.norm(), 0.0);
   p.friction_coefficient = -0.1;
-  EXPECT_THROW(validate(p), std::invalid_argument);
+  EXPECT_THROW(validate_pair_contact(p), std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------------------------
