@@ -133,10 +133,7 @@ PairContactForce pair_contact_force(const ContactBody& a, const ContactBody& b, 
   f.separation = convex_distance({a.shape, body_a.state().position_si, body_a.body_to_inertial()},
                                  {b.shape, body_b.state().position_si, body_b.body_to_inertial()});
   const double overlap = parameters.contact_distance_si - f.separation.distance_si;
-  if (!(overlap > 0.0)) {
-    f.separation = {};
-    return f;
-  }
+  if (!(overlap > 0.0)) return f;
   f.touching = true;
   const Eigen::Vector3d n = f.separation.normal;
   const Eigen::Vector3d contact = 0.5 * (f.separation.point_a_si + f.separation.point_b_si);

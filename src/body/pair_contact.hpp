@@ -124,7 +124,8 @@ struct PairContactForce {
 };
 
 /// Force and torques of the contact between a and b with the tangential spring `spring_si` (zero
-/// for a contact that begins now; file comment). Not touching: everything zero.
+/// for a contact that begins now; file comment). Not touching: no force, spring or velocity (the
+/// separation is still given).
 PairContactForce pair_contact_force(const ContactBody& a, const ContactBody& b, const Eigen::Vector3d& spring_si,
                                     const PairContactParameters& parameters);
 
