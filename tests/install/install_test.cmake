@@ -31,7 +31,7 @@ endfunction()
 file(REMOVE_RECURSE ${PREFIX})
 run_expecting(0 ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${PREFIX})
 set(python_dir share/settle/python)
-require_files(bin/settle ${python_dir}/settle_plot.py ${python_dir}/settle_study_plot.py
+require_files(bin/settle ${python_dir}/settle_plot.py ${python_dir}/settle_study_plot.py ${python_dir}/settle/__init__.py
               share/settle/cases/prolate_spheroid.toml share/settle/studies/window_width.toml
               share/doc/settle/user-guide.md share/doc/settle/README.md)
 
@@ -55,6 +55,17 @@ run_expecting(0 ${CMAKE_COMMAND} -E env SETTLE_PYTHON=${PYTHON} ${PREFIX}/bin/se
 foreach(figure velocity trajectory orientation forces)
   require_files(run/plots/${figure}.png)
 endforeach()
+
+# The installed package reads the run (when pandas is there: docs/python.md). Lines, not `;`:
+# a `;` would split the CMake argument.
+execute_process(COMMAND ${PYTHON} -c "import pandas" RESULT_VARIABLE no_pandas OUTPUT_QUIET ERROR_QUIET)
+if(NOT no_pandas)
+  run_expecting(0 ${CMAKE_COMMAND} -E env PYTHONPATH=${PREFIX}/${python_dir} ${PYTHON} -c
+                "import settle\nr = settle.load_run('${run}')\nassert settle.__file__.startswith('${PREFIX}')\nprint(len(r.timeseries), r.timeseries.attrs['units']['uz'])")
+  if(NOT last_output MATCHES "^[0-9]+ m/s")
+    message(FATAL_ERROR "the installed package did not read the run: ${last_output}")
+  endif()
+endif()
 
 # The scripts came from the prefix, not from the source tree the binary was built from: without
 # the installed settle_plot.py the installed binary refuses, naming the installed folder.
