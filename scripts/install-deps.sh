@@ -17,6 +17,7 @@ packages=(
   libopenmpi-dev openmpi-bin             # one run across many processes (docs/parallel.md)
   zlib1g-dev            # compressed VTK output
   python3-matplotlib python3-numpy       # `settle plot`
+  python3-pandas python3-pytest          # the settle Python package (python/settle/) and its tests
 )
 # `--clang`: the sanitizer build's compiler (CMakePresets.json, debug), libFuzzer and clang's OpenMP
 # runtime, for the sanitizer and fuzz stages only. Other arguments are extra packages.

@@ -54,6 +54,14 @@ bool settle_timeseries(const fs::path& file) {
   return file_starts_with(file, header);
 }
 
+// timeseries.json: the sidecar of timeseries.csv (io::timeseries_sidecar_json).
+bool settle_timeseries_sidecar(const fs::path& file) {
+  const std::optional<std::string> text = small_text(file);
+  if (!text) return false;
+  const nlohmann::json j = nlohmann::json::parse(*text, nullptr, false);
+  return j.is_object() && j.value("file", "") == "timeseries.csv" && j.contains("columns");
+}
+
 bool settle_resolved_case(const fs::path& file) {
   const std::optional<std::string> text = small_text(file);
   return text && text->find(std::string("\n") + kDerivedBlockTitle) != std::string::npos;
@@ -151,6 +159,9 @@ EarlierRun survey_earlier_run(const fs::path& dir, const std::string& mesh_copy)
   const fs::path timeseries = dir / "timeseries.csv";
   if (exists_at(timeseries) && !settle_timeseries(timeseries))
     refuse(dir, timeseries, "a time series settle run wrote (its header t,x,y,z,...)");
+  const fs::path sidecar = io::timeseries_sidecar_path(timeseries);
+  if (exists_at(sidecar) && !settle_timeseries_sidecar(sidecar))
+    refuse(dir, sidecar, "the column list settle run writes beside timeseries.csv");
   const fs::path resolved = dir / "case.resolved.toml";
   if (exists_at(resolved) && !settle_resolved_case(resolved)) refuse(dir, resolved, "a resolved case settle run wrote");
   const fs::path checkpoint = dir / kCheckpointFileName;

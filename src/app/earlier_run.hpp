@@ -6,6 +6,7 @@
 //  - summary.json: JSON with the keys settle run writes (case, steps, stop_reason); removed at
 //    the start (it marks a finished run);
 //  - timeseries.csv: empty, or starting with its contract header (t,x,y,z,...); replaced;
+//  - timeseries.json: JSON naming "file": "timeseries.csv" and its "columns"; replaced;
 //  - case.resolved.toml: holding the derived block settle run appends; replaced;
 //  - checkpoint.bin and checkpoint.bin.tmp: a checkpoint's signature (SETTLECK; the .tmp may be cut
 //    before it); removed;

@@ -20,6 +20,9 @@ extern char** environ;
 #ifndef SETTLE_PYTHON_DIR
 #error "SETTLE_PYTHON_DIR (the python/ folder of the sources) must be defined by src/app/CMakeLists.txt"
 #endif
+#ifndef SETTLE_INSTALLED_PYTHON_DIR
+#error "SETTLE_INSTALLED_PYTHON_DIR (the installed scripts' folder from bin/) must be defined by src/app/CMakeLists.txt"
+#endif
 
 namespace settle::app {
 
@@ -96,12 +99,38 @@ std::string find_python(const std::string& command) {
                   tried));
 }
 
-/// python/settle_plot.py: from $SETTLE_PYTHON_DIR when set, else the source tree this binary was
-/// built from (compiled in, so a fresh clone's build finds it without installing anything).
+namespace {
+
+// The folder of this process's executable (Linux: /proc/self/exe); empty when it cannot be read.
+fs::path executable_folder() {
+  std::error_code error;
+  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  return error ? fs::path() : executable.parent_path();
+}
+
+// An installed binary (<prefix>/bin/settle) has its scripts at <prefix>/share/settle/python (the
+// install rules, CMakeLists.txt); a binary in the build tree has no such folder beside it and uses
+// the source tree it was built from (compiled in, so a fresh clone's build finds them without
+// installing anything). The folder decides, not the script, so that an installed binary never
+// mixes in scripts from a source tree that may be of another version.
+fs::path default_python_folder() {
+  const fs::path folder = executable_folder();
+  std::error_code error;
+  if (!folder.empty()) {
+    const fs::path installed = (folder / SETTLE_INSTALLED_PYTHON_DIR).lexically_normal();
+    if (fs::is_directory(installed, error)) return installed;
+  }
+  return fs::path(SETTLE_PYTHON_DIR);
+}
+
+}  // namespace
+
+/// python/settle_plot.py: from $SETTLE_PYTHON_DIR when set, else the installed folder beside the
+/// binary (../share/settle/python), else the source tree this binary was built from.
 fs::path find_script(const std::string& script_name, const std::string& command) {
   const char* override_dir = std::getenv("SETTLE_PYTHON_DIR");
   const bool overridden = override_dir != nullptr && *override_dir != '\0';
-  const fs::path dir = overridden ? fs::path(override_dir) : fs::path(SETTLE_PYTHON_DIR);
+  const fs::path dir = overridden ? fs::path(override_dir) : default_python_folder();
   const fs::path script = dir / script_name;
   std::error_code error;
   if (!fs::is_regular_file(script, error))

@@ -18,8 +18,10 @@ std::optional<int> run_child(const std::vector<std::string>& arguments, bool qui
 /// the settle command that needs it.
 std::string find_python(const std::string& command);
 
-/// python/`script_name`: from $SETTLE_PYTHON_DIR when set, else the source tree this binary was
-/// built from (compiled in, so a fresh clone's build finds it without installing anything).
+/// python/`script_name`: from $SETTLE_PYTHON_DIR when set, else the installed folder beside the
+/// binary (<prefix>/bin/settle -> <prefix>/share/settle/python) when there is one, else the source
+/// tree this binary was built from (compiled in, so a fresh clone's build finds it without
+/// installing anything).
 std::filesystem::path find_script(const std::string& script_name, const std::string& command);
 
 /// Runs `python script arguments...` with stdout and stderr flushed first; returns its exit status.

@@ -614,6 +614,13 @@ TEST_F(MalformedInput, ATimeSeriesOfTheUsersIsRefusedNotOverwritten) {
   expect_refused(run_case("--threads 1"), {"-o", "timeseries.csv", "not a time series settle run wrote"});
 }
 
+// A JSON file of the user's under the sidecar's name: valid JSON, but not settle's column list.
+TEST_F(MalformedInput, ATimeSeriesJsonOfTheUsersIsRefusedNotOverwritten) {
+  std::ofstream(results_ / "timeseries.json") << "{\"columns\": [\"time\", \"height\"]}\n";
+  before_ = listing(results_);
+  expect_refused(run_case("--threads 1"), {"-o", "timeseries.json", "not the column list settle run writes"});
+}
+
 TEST_F(MalformedInput, ACaseNamedDotDotIsRefusedWithoutOutputDirectory) {
   // "...toml" leaves the case name "..": without -o its results would go to runs/.., the current
   // directory, whose summary.json (here the user's) a run removes.

@@ -11,12 +11,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -299,30 +301,92 @@ TEST(RunCli, ContactKeysOutOfRangeExitTwo) {
 // above the floor, the momentum exchange's default contact distance 1 cell) the body is out of
 // the spring's reach in 10 steps (it sinks about 2e-6 m: 1/2 a t^2 with a ~ 0.6 m/s^2, t = 2.5
 // ms): zero contact force, and a finite gap close to the start's 3 cells.
+// The rows of a timeseries.csv by column name (new columns are appended: tests name them, never
+// count from the end).
+std::vector<std::map<std::string, double>> rows_by_name(const fs::path& csv_path) {
+  std::ifstream csv(csv_path);
+  std::string header;
+  std::getline(csv, header);
+  std::vector<std::string> names;
+  std::stringstream header_fields(header);
+  for (std::string name; std::getline(header_fields, name, ',');) names.push_back(name);
+  std::vector<std::map<std::string, double>> rows;
+  for (std::string line; std::getline(csv, line);) {
+    std::stringstream fields(line);
+    std::map<std::string, double>& row = rows.emplace_back();
+    std::size_t c = 0;
+    for (std::string field; std::getline(fields, field, ',') && c < names.size(); ++c) row[names[c]] = std::stod(field);
+  }
+  return rows;
+}
+
 TEST(RunCli, TimeseriesCarriesContactForceAndWallGap) {
   const fs::path dir = scratch("contact_columns");
   ASSERT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor).status, 0);
   std::ifstream csv(dir / "timeseries.csv");
-  std::string header, row, last;
+  std::string header;
   std::getline(csv, header);
   EXPECT_NE(header.find(",slip_rms,Fcx,Fcy,Fcz,wall_gap"), std::string::npos) << header;
-  while (std::getline(csv, row)) last = row;
-  std::vector<double> values;
-  std::stringstream fields(last);
-  for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
-  ASSERT_GE(values.size(), 4u);
-  const double gap_m = values.back();
-  for (std::size_t i = values.size() - 4; i < values.size() - 1; ++i) EXPECT_EQ(values[i], 0.0);
+  const auto rows = rows_by_name(dir / "timeseries.csv");
+  ASSERT_FALSE(rows.empty());
+  const auto& last = rows.back();
+  for (const char* column : {"Fcx", "Fcy", "Fcz"}) EXPECT_EQ(last.at(column), 0.0) << column;
   // 3 cells of 0.1575 mm = 4.725e-4 m; 2 % allows the 10 steps' sinking (~2e-6 m, 0.4 %; measured
   // 4.7058e-4 m) and the slight tilt the flow may give, while a wrong unit (cells) or a wrong wall
   // would miss by far.
-  EXPECT_NEAR(gap_m, 4.725e-4, 0.02 * 4.725e-4);
+  EXPECT_NEAR(last.at("wall_gap"), 4.725e-4, 0.02 * 4.725e-4);
   fs::remove_all(dir);
   // The default case's window follows the body: no contact walls, the documented -1.
   ASSERT_EQ(run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1").status, 0);
-  std::ifstream following(dir / "timeseries.csv");
-  while (std::getline(following, row)) last = row;
-  EXPECT_EQ(last.substr(last.rfind(',') + 1), "-1");
+  EXPECT_EQ(rows_by_name(dir / "timeseries.csv").back().at("wall_gap"), -1.0);
+  fs::remove_all(dir);
+}
+
+// The quaternion columns (appended after wall_gap) and the sidecar timeseries.json. At t = 0 the
+// attitude is the case's particle.euler exactly, so q_w .. q_z must be the quaternion of
+// Rz(psi) Ry(theta) Rx(gamma) (docs/attitude.md, "Conventions"), built here from Eigen's
+// angle-axis rotations, independently of settle's Euler code: both are a few products of sines
+// and cosines of the same angles, so 1e-15 (a few ulps of a number below 1) separates round-off
+// from a wrong order or sign. Every row's quaternion is unit to 1e-14 (it is composed, not
+// integrated: round-off of a dozen products).
+TEST(RunCli, TimeseriesCarriesTheQuaternionAndItsSidecarNamesEveryColumn) {
+  const fs::path dir = scratch("quaternion_columns");
+  const double psi = 0.3, theta = 0.4, gamma = 0.5;
+  ASSERT_EQ(run_settle("-o " + dir.string() + " --set 'particle.euler=[0.3,0.4,0.5]' --set run.end_time=0.0025" +
+                       " --set run.output_interval=0 --threads 1")
+                .status,
+            0);
+  const auto rows = rows_by_name(dir / "timeseries.csv");
+  ASSERT_GE(rows.size(), 2u);
+  const Eigen::Quaterniond expected = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) *
+                                      Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
+                                      Eigen::AngleAxisd(gamma, Eigen::Vector3d::UnitX());
+  const auto& first = rows.front();
+  ASSERT_EQ(first.at("t"), 0.0);
+  EXPECT_NEAR(first.at("q_w"), expected.w(), 1e-15);
+  EXPECT_NEAR(first.at("q_x"), expected.x(), 1e-15);
+  EXPECT_NEAR(first.at("q_y"), expected.y(), 1e-15);
+  EXPECT_NEAR(first.at("q_z"), expected.z(), 1e-15);
+  for (const auto& row : rows) {
+    const double norm = Eigen::Vector4d(row.at("q_w"), row.at("q_x"), row.at("q_y"), row.at("q_z")).norm();
+    EXPECT_NEAR(norm, 1.0, 1e-14) << "t = " << row.at("t");
+    EXPECT_GE(row.at("q_w"), 0.0) << "t = " << row.at("t");
+  }
+
+  std::ifstream csv(dir / "timeseries.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_TRUE(header.ends_with(",wall_gap,q_w,q_x,q_y,q_z")) << header;
+  const auto sidecar = nlohmann::json::parse(read_text(dir / "timeseries.json"));
+  EXPECT_EQ(sidecar["file"], "timeseries.csv");
+  std::string names;
+  for (const auto& column : sidecar["columns"]) {
+    names += (names.empty() ? "" : ",") + column["name"].get<std::string>();
+    EXPECT_FALSE(column["unit"].get<std::string>().empty()) << column;
+    EXPECT_TRUE(column.contains("frame") && column.contains("meaning")) << column;
+  }
+  EXPECT_EQ(names, header);
+  EXPECT_EQ(sidecar["columns"][6]["unit"], "m/s");  // uz
   fs::remove_all(dir);
 }
 
