@@ -137,7 +137,8 @@ const std::set<std::string> kReadElsewhere{"fluid.preset",
                                            "run.stop_at_terminal",
                                            "run.checkpoint_interval",
                                            "run.checkpoint_wall_interval",
-                                           "run.reference"};
+                                           "run.reference",
+                                           "run.vtk_compression"};
 
 TEST(SetupDefaults, EveryKeyOfTheSchemaIsReadIntoTheSetupOrListedAsReadElsewhere) {
   const auto readers = setup_readers();
