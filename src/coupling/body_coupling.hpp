@@ -12,6 +12,7 @@
 // "forcing", "hydrodynamic_force", the momentum exchange's "body_mapping", "refill",
 // "hydrodynamic_force"). Lattice units throughout (docs/coupling.md, "Couplings").
 #include <array>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -110,19 +111,20 @@ class BodyCoupling {
   virtual void restore_carried_state(const std::array<double, 6>& state) = 0;
 };
 
-/// The numerical choices of a coupling, from the case.
+/// The numerical choices of a coupling, from the case: built by coupling_options (case_plan.hpp)
+/// from a SimulationSetup, so the members carry no defaults of their own (coupling/setup.hpp).
 struct CouplingOptions {
-  CouplingKind kind = kDefaultCoupling;
+  CouplingKind kind{};
   // immersed boundary
-  ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
-  int forcing_iterations = 3;
-  double marker_retraction_cells = 0.4;
-  bool interior_markers = false;
+  ibm::DeltaKernel kernel{};
+  int forcing_iterations = 0;
+  double marker_retraction_cells = std::numeric_limits<double>::quiet_NaN();
+  bool interior_markers{};
   // momentum exchange
-  lbm::WallRule wall_rule = lbm::kDefaultWallRule;
-  bool covered_cell_torque = kDefaultCoveredCellTorque;
+  lbm::WallRule wall_rule{};
+  bool covered_cell_torque{};
   /// The body is placed once per this many lattice steps (SimulationSetup::lattice_steps_per_body_step).
-  int lattice_steps_per_body_step = 1;
+  int lattice_steps_per_body_step = 0;
 };
 
 /// How far (cells) from the body's surface lie the cells the coupling `options` choose needs:

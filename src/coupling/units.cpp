@@ -51,6 +51,7 @@ UnitConverter make_unit_converter(const UnitInputs& in) {
   require_positive(in.fluid_density_si, "fluid.density");
   require_positive(in.dynamic_viscosity_si, "fluid.dynamic_viscosity");
   require_positive(in.max_lattice_velocity, "numerics.max_lattice_velocity");
+  require_positive(in.max_tau, "numerics.max_tau");
   if (!(std::isfinite(in.expected_speed_si) && in.expected_speed_si >= 0.0))
     throw InputError(fmt::format("expected speed: must be finite and >= 0, got {}", in.expected_speed_si));
 

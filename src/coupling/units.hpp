@@ -11,22 +11,30 @@
 // unless the case fixes tau, in which case dt follows from it and the Mach bound is checked.
 // A tau below min_tau (under-resolved flow: too few cells for the Reynolds number) is refused
 // with a message that names the key to change.
+#include <limits>
 #include <optional>
 #include <string>
 
 namespace settle::coupling {
 
-/// What the converter needs. Every quantity in SI.
+/// The smallest relaxation time the converter accepts (exclusive): also the lower bound of the case
+/// schema's numerics.max_tau and numerics.tau.
+inline constexpr double kMinTau = 0.5 + 1.0e-3;
+
+/// What the converter needs. Every quantity in SI. The members of case keys carry no defaults (the
+/// case schema declares them; coupling/setup.hpp): NaN until assigned, which make_unit_converter
+/// refuses.
 struct UnitInputs {
-  double equivalent_diameter_si = 0.0;  ///< m
-  double cells_per_diameter = 16.0;
-  double fluid_density_si = 998.2;       ///< kg/m^3
-  double dynamic_viscosity_si = 1.0e-3;  ///< Pa s
-  double expected_speed_si = 0.0;        ///< m/s, the largest velocity expected in the flow
-  double max_lattice_velocity = 0.05;    ///< bound on U dt / dx
-  double min_tau = 0.5 + 1.0e-3;
-  double max_tau = 2.0;
-  std::optional<double> tau;  ///< fixes tau instead of choosing dt
+  static constexpr double kUnassigned = std::numeric_limits<double>::quiet_NaN();
+  double equivalent_diameter_si = 0.0;        ///< m
+  double cells_per_diameter = kUnassigned;    ///< numerics.cells_per_diameter
+  double fluid_density_si = kUnassigned;      ///< kg/m^3, fluid.density
+  double dynamic_viscosity_si = kUnassigned;  ///< Pa s, fluid.dynamic_viscosity
+  double expected_speed_si = 0.0;             ///< m/s, the largest velocity expected in the flow
+  double max_lattice_velocity = kUnassigned;  ///< bound on U dt / dx, numerics.max_lattice_velocity
+  double min_tau = kMinTau;
+  double max_tau = kUnassigned;  ///< numerics.max_tau
+  std::optional<double> tau;     ///< fixes tau instead of choosing dt
 };
 
 /// Scales between SI and lattice units. Construct with make_unit_converter().

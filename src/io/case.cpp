@@ -25,7 +25,7 @@ namespace {
 // rather than stopping at the terminal state: that is detected on the velocity, at about 0.5 s,
 // while the spheroid still swings about its broadside attitude for another half second
 // (docs/analysis.md, "Averaging window"). The fluid's density and
-// viscosity are the schema defaults (998.2 kg/m^3, 1.0e-3 Pa s), left unwritten so that
+// viscosity are the schema defaults, left unwritten so that
 // --set fluid.preset=... applies to the default case too (written values would override it).
 constexpr std::string_view kDefaultCase = R"toml(# settle's built-in default case (settle run without a case file)
 [fluid]

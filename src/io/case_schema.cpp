@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include "common/physical_defaults.hpp"
 #include "coupling/body_coupling.hpp"
+#include "coupling/units.hpp"
 #include "lbm/config.hpp"
 #include "lbm/solver.hpp"
 
@@ -43,8 +45,9 @@ std::vector<KeySpec> declare() {
   const std::string default_precision = lbm::to_string(lbm::kDefaultPrecision);
   return {
       // [fluid]
-      real("fluid.density", Value(998.2), "kg/m^3", positive(), "fluid density (when given, overrides fluid.preset)"),
-      real("fluid.dynamic_viscosity", Value(1.0e-3), "Pa s", positive(),
+      real("fluid.density", Value(defaults::fluid_density_si), "kg/m^3", positive(),
+           "fluid density (when given, overrides fluid.preset)"),
+      real("fluid.dynamic_viscosity", Value(defaults::dynamic_viscosity_si), "Pa s", positive(),
            "dynamic viscosity (when given, overrides fluid.preset)"),
       // Presets (io/fluid_presets.hpp): the ranges are those of the correlations' sources.
       choice("fluid.preset", "none", {"none", "water", "glycerol-water"},
@@ -53,7 +56,7 @@ std::vector<KeySpec> declare() {
            "temperature of the preset liquid (only with fluid.preset)"),
       real("fluid.glycerol_mass_fraction", std::nullopt, "", closed(0.0, 1.0),
            "mass of glycerol per mass of mixture (fluid.preset = \"glycerol-water\" only)"),
-      vector3("fluid.gravity", vec(0.0, 0.0, -9.81), "m/s^2", {}, "gravitational acceleration"),
+      vector3("fluid.gravity", vec(0.0, 0.0, -defaults::gravity_si), "m/s^2", {}, "gravitational acceleration"),
       vector3("fluid.body_force", vec(0.0, 0.0, 0.0), "N/m^3", {},
               "force density on the fluid (drives flow past a fixed body in a periodic box)"),
       // [particle]
@@ -167,12 +170,13 @@ std::vector<KeySpec> declare() {
               "also force the fluid inside the body, on a body-fixed lattice of one-cell spacing (docs/coupling.md)"),
       real("numerics.max_lattice_velocity", Value(0.05), "", {0.0, 0.2, false, true},
            "largest lattice velocity U dt/dx of the expected speed (Mach bound for choosing dt)"),
-      // tau must exceed the converter's min_tau = 0.501 (coupling/units.hpp).
-      real("numerics.max_tau", Value(2.0), "", {0.501, 5.0, false, true}, "largest relaxation time when choosing dt"),
-      real("numerics.tau", std::nullopt, "", {0.501, 5.0, false, true},
+      // tau must exceed the converter's smallest (coupling::kMinTau).
+      real("numerics.max_tau", Value(2.0), "", {coupling::kMinTau, 5.0, false, true},
+           "largest relaxation time when choosing dt"),
+      real("numerics.tau", std::nullopt, "", {coupling::kMinTau, 5.0, false, true},
            "relaxation time; when given, dt follows from it instead of the Mach and tau bounds"),
-      // [contact]: particle-wall contact (body/contact.hpp, docs/rigid-body.md); the bounds are
-      // those of the Simulation's check_contact_setup (coupling/simulation.cpp).
+      // [contact]: particle-wall contact (body/contact.hpp, docs/rigid-body.md); the ranges are
+      // checked here only (plan_case, coupling/case_plan.cpp, checks the rules between keys).
       boolean("contact.enabled", true,
               "spring-dashpot contact with the walls of non-periodic axes (free bodies, fixed window only)"),
       real("contact.restitution", Value(0.97), "", {0.0, 1.0, false, true},

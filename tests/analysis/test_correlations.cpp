@@ -20,6 +20,7 @@
 #include "body/shape_factors.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace settle::analysis {
 namespace test_correlations {
@@ -312,7 +313,7 @@ TEST(Descriptors, ProlateSpheroidInEachOrientation) {
 TEST(Descriptors, CaseSetUpUsesTheInitialAttitude) {
   // Tilted by theta = 0.5 about y: gravity meets the symmetry axis at 0.5 rad, so the shadow is
   // pi a sqrt(a^2 cos^2 0.5 + c^2 sin^2 0.5) and Ganser's d_n/d_v follows from it.
-  coupling::SimulationSetup setup;
+  coupling::SimulationSetup setup = settle::test::default_setup();
   setup.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::spheroid(1e-3, 2.5));
   setup.particle_density_si = 1500.0;
   setup.initial.attitude = attitude::Attitude::from_set1(0.0, 0.5, 0.0);

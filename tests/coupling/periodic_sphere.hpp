@@ -20,6 +20,7 @@
 
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace settle::coupling::testing {
 
@@ -53,7 +54,7 @@ struct PeriodicSphereOptions {
   double cells_per_diameter = 16.0;
   int box_cells = 32;
   double tau = 1.0;
-  double retraction = SimulationSetup{}.marker_retraction_cells;  ///< the default of settle run
+  double retraction = settle::test::default_setup().marker_retraction_cells;  ///< the default of settle run
   int forcing_iterations = 3;
   bool interior_markers = false;
   ibm::DeltaKernel kernel = ibm::DeltaKernel::Roma3;
@@ -68,7 +69,7 @@ struct PeriodicSphereOptions {
 /// no body force, motion fixed; callers set the driving.
 inline SimulationSetup periodic_sphere_setup(const PeriodicSphereOptions& o) {
   const double d = o.cells_per_diameter;  // metres = cells (dx = 1)
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   body::ShapeSpec spec;
   spec.shape = "sphere";
   spec.diameter = d;

@@ -19,6 +19,7 @@
 #include "coupling/simulation.hpp"
 #include "ibm/forcing.hpp"
 #include "lbm/solver.hpp"
+#include "support/default_setup.hpp"
 
 namespace test_immersed_body {
 
@@ -206,7 +207,7 @@ TEST(Bookkeeping, GridForceAndTorqueEqualMinusTheMarkerReaction) {
 }
 
 SimulationSetup lattice_like_setup(body::MotionKind motion, const Eigen::Vector3d& velocity) {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   s.coupling = CouplingKind::immersed_boundary;
   s.shape = sphere(8.0);
   s.motion = motion;

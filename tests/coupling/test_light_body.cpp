@@ -32,6 +32,7 @@
 
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace test_light_body {
 
@@ -60,7 +61,7 @@ std::shared_ptr<const body::Shape> sphere_shape(double diameter) {
 /// 2 d_eq from its axis, 3 d_eq of water ahead and 4 behind.
 SimulationSetup falling(std::shared_ptr<const body::Shape> shape, double density_ratio, const attitude::Attitude& start,
                         CouplingKind coupling = CouplingKind::immersed_boundary) {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   s.coupling = coupling;
   s.shape = std::move(shape);
   s.particle_density_si = density_ratio * kWaterDensity;

@@ -12,7 +12,9 @@
 
 #include "body/shape_factory.hpp"
 #include "coupling/body_coupling.hpp"
+#include "coupling/case_plan.hpp"
 #include "lbm/solver.hpp"
+#include "support/default_setup.hpp"
 
 namespace settle::coupling {
 namespace {
@@ -36,7 +38,7 @@ std::unique_ptr<BodyCoupling> sphere_coupling(bool covered_cell_torque) {
   body::ShapeSpec spec;
   spec.shape = "sphere";
   spec.diameter = 8.0;
-  CouplingOptions options;
+  CouplingOptions options = coupling_options(settle::test::default_setup());
   options.kind = CouplingKind::momentum_exchange;
   options.covered_cell_torque = covered_cell_torque;
   return make_coupling(std::shared_ptr<const body::Shape>(body::make_shape(spec)), 1.0, options);

@@ -17,6 +17,7 @@
 
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace test_periodic_window {
 
@@ -28,7 +29,7 @@ constexpr double kTowSpeed = 0.04;  // lattice units
 constexpr int kSteps = 250;         // 10 cells of travel
 
 SimulationSetup towed_across_a_ring(bool follow) {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   body::ShapeSpec spec;
   spec.shape = "sphere";
   spec.diameter = kDiameter;
@@ -86,7 +87,7 @@ TEST(PeriodicWindow, FollowingAlongARingIsNotFollowing) {
 // the wrap (Uhlmann and Dusek's case C with periodic sides, docs/notes.md). Populations in double:
 // the two differ only in the order of the covered cells' torque sum.
 SimulationSetup momentum_exchange_turning_tow(double centre_x) {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   body::ShapeSpec spec;
   spec.shape = "sphere";
   spec.diameter = 8.0;

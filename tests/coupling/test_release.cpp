@@ -12,6 +12,7 @@
 
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace test_release {
 
@@ -22,7 +23,7 @@ constexpr double kDiameter = 1.0e-3;  // m
 constexpr int kHeldSteps = 160;
 
 SimulationSetup sphere_moving_down(body::MotionKind motion) {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   body::ShapeSpec spec;
   spec.shape = "sphere";
   spec.diameter = kDiameter;

@@ -25,6 +25,7 @@
 #include "body/shape_factory.hpp"
 #include "coupling/checkpoint_state.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace settle::coupling {
 namespace test_restart {
@@ -38,7 +39,7 @@ namespace fs = std::filesystem;
 // holds a non-default Euler set and a moved window (shifts near steps 47 and 78). 24 x 24 x 40 cells: above the solver's
 // threshold for OpenMP threads, so the threaded kernels are the ones checked.
 SimulationSetup settling_spheroid() {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   s.coupling = CouplingKind::immersed_boundary;  // MomentumExchangeContinuesBitForBit... covers the other
   body::ShapeSpec spec;
   spec.shape = "spheroid";

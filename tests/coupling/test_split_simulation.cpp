@@ -21,6 +21,7 @@
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 #include "support/halo_cases.hpp"
 #include "support/thread_communicator.hpp"
 
@@ -34,7 +35,7 @@ using namespace settle::coupling;
 // cells, the body across the middle of every split the ranks below choose, the window shifting
 // about every 30 steps.
 SimulationSetup settling_spheroid() {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   body::ShapeSpec spec;
   spec.shape = "spheroid";
   spec.aspect_ratio = 2.0;

@@ -7,19 +7,25 @@
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
+#include "coupling/setup.hpp"
 #include "coupling/units.hpp"
+#include "support/default_setup.hpp"
 
 namespace test_units {
 
 using namespace settle::coupling;
 
+// The bounds on the lattice velocity and on tau are a case's defaults (the case schema's).
 UnitInputs water_millimetre_sphere(double speed) {
+  const SimulationSetup defaults = settle::test::default_setup();
   UnitInputs in;
   in.equivalent_diameter_si = 1.0e-3;
   in.cells_per_diameter = 16.0;
   in.fluid_density_si = 1000.0;
   in.dynamic_viscosity_si = 1.0e-3;
   in.expected_speed_si = speed;
+  in.max_lattice_velocity = defaults.max_lattice_velocity;
+  in.max_tau = defaults.max_tau;
   return in;
 }
 
@@ -100,6 +106,17 @@ TEST(UnitConverter, BadFluidPropertiesAreRefusedNamingTheKey) {
   in = water_millimetre_sphere(0.01);
   in.fluid_density_si = 0.0;
   EXPECT_NE(message_of(in).find("fluid.density"), std::string::npos);
+}
+
+// Inputs of case keys left unassigned (NaN: no default of their own) are refused, not run on.
+TEST(UnitConverter, UnassignedCaseKeysAreRefused) {
+  UnitInputs in;
+  in.equivalent_diameter_si = 1.0e-3;
+  in.expected_speed_si = 0.01;
+  EXPECT_NE(message_of(in).find("numerics.cells_per_diameter"), std::string::npos);
+  in = water_millimetre_sphere(0.01);
+  in.max_tau = UnitInputs{}.max_tau;
+  EXPECT_NE(message_of(in).find("numerics.max_tau"), std::string::npos);
 }
 
 TEST(SpeedEstimates, CreepingTerminalSpeedIsStokesWithTheFirstCorrection) {

@@ -20,6 +20,7 @@
 #include "body/shape_factory.hpp"
 #include "common/error.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace test_wall_contact {
 
@@ -38,7 +39,7 @@ std::shared_ptr<const body::Shape> make(const char* name, double aspect_ratio = 
 
 SimulationSetup settling_box(std::shared_ptr<const body::Shape> shape, const Eigen::Matrix3d& attitude,
                              double start_height) {
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   s.shape = std::move(shape);
   s.particle_density_si = 2500.0;
   s.fluid_density_si = 1000.0;
@@ -234,9 +235,8 @@ TEST(WallContact, RefusesParametersAndStartsThatCannotWork) {
       EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
     }
   };
-  refused([](SimulationSetup& s) { s.contact_restitution = 0.0; }, "contact.restitution");
-  refused([](SimulationSetup& s) { s.contact_restitution = 1.5; }, "contact.restitution");
-  refused([](SimulationSetup& s) { s.contact_collision_steps = 0.5; }, "contact.collision_steps");
+  // The ranges of contact.restitution and contact.collision_steps are the case schema's, checked
+  // when a case is read (tests/io/test_schema.cpp); here the rules that depend on the coupling.
   // Below reach - 1/2 (coupling_reach_cells) a resting body's links would leave the grid: half a
   // cell for the momentum exchange, 1 cell for the immersed boundary's roma3 stencils.
   refused([](SimulationSetup& s) { s.contact_distance_cells = 0.4; }, "contact.distance_cells");

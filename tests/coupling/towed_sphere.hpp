@@ -22,6 +22,7 @@
 
 #include "body/shape_factory.hpp"
 #include "coupling/simulation.hpp"
+#include "support/default_setup.hpp"
 
 namespace settle::coupling::testing {
 
@@ -69,7 +70,7 @@ struct TowedSphereResult {
 inline TowedSphereResult run_towed_sphere(const TowedSphereOptions& o) {
   const double d = o.cells_per_diameter;  // metres = cells
   const double nu = o.lattice_speed * d / o.reynolds;
-  SimulationSetup s;
+  SimulationSetup s = settle::test::default_setup();
   body::ShapeSpec spec;
   spec.shape = "sphere";
   spec.diameter = d;

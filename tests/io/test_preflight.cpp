@@ -30,6 +30,7 @@
 #include "lbm/grid.hpp"
 #include "lbm/lattice.hpp"
 #include "lbm/solver.hpp"
+#include "support/default_setup.hpp"
 
 namespace settle::io {
 namespace test_preflight {
@@ -49,7 +50,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 // A 1 mm sphere, 8 cells per diameter, in a 4 x 4 x 6 mm box with walls: 32 x 32 x 48 cells.
 coupling::SimulationSetup small_setup() {
-  coupling::SimulationSetup s;
+  coupling::SimulationSetup s = settle::test::default_setup();
   s.coupling = coupling::CouplingKind::immersed_boundary;  // the marker estimate is the immersed boundary's
   s.shape = std::make_shared<body::Ellipsoid>(body::Ellipsoid::sphere(1.0e-3));
   s.particle_density_si = 1100.0;
