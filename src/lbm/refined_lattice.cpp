@@ -85,18 +85,26 @@ RefinedLattice::RefinedLattice(const RefinedLatticeConfig& config) : config_(con
   }
   // Same physical viscosity: cs^2 (tau_f - 1/2) dx_f^2 / dt_f = cs^2 (tau_c - 1/2) dx_c^2 / dt_c.
   tau_fine_ = 2.0 * (config_.tau_coarse - 0.5) + 0.5;
-  const std::size_t coarse_size = static_cast<std::size_t>(config_.coarse_cells[0]) * config_.coarse_cells[1] *
-                                  config_.coarse_cells[2] * Q;
+  const std::size_t coarse_size =
+      static_cast<std::size_t>(config_.coarse_cells[0]) * config_.coarse_cells[1] * config_.coarse_cells[2] * Q;
   const std::size_t fine_size = static_cast<std::size_t>(fine_cells_[0]) * fine_cells_[1] * fine_cells_[2] * Q;
   for (auto* v : {&coarse_, &coarse_post_, &coarse_exploded_, &coarse_fine_share_, &coarse_coalesced_})
     v->assign(coarse_size, 0.0);
   for (auto* v : {&fine_, &fine_post_, &fine_post_as_coarse_}) v->assign(fine_size, 0.0);
+  for (auto* v : {&coarse_post_slope_, &coarse_exploded_slope_, &coarse_entering_offset_})
+    v->assign(3 * coarse_size, 0.0);
   for (int z = box.lo[2] - 1; z <= box.hi[2]; ++z)
     for (int y = box.lo[1] - 1; y <= box.hi[1]; ++y)
       for (int x = box.lo[0] - 1; x <= box.hi[0]; ++x) {
         if (covered(x, y, z)) continue;
-        for (int i = 0; i < Q; ++i)
-          coarse_fine_share_[coarse_index(x, y, z) * Q + i] = fraction_taken_by_fine(x, y, z, i);
+        for (int i = 0; i < Q; ++i) {
+          const std::size_t at = static_cast<std::size_t>(coarse_index(x, y, z)) * Q + i;
+          int count = 0;
+          std::array<double, 3> offsets{};
+          children_entering(x, y, z, i, count, offsets);
+          coarse_fine_share_[at] = count / 8.0;
+          for (int d = 0; d < 3; ++d) coarse_entering_offset_[3 * at + d] = offsets[d];
+        }
       }
 }
 
@@ -116,21 +124,59 @@ int RefinedLattice::parent_of_fine(int a, int b, int c) const {
   return coarse_index(lo[0] + floor_half(a), lo[1] + floor_half(b), lo[2] + floor_half(c));
 }
 
-// The share phi of population i of coarse cell X that the fine level takes during the coarse step:
-// the explosion gives it to X's 8 children, the fine level streams them twice (the ghost children
-// are not collided), and a child's value enters the box at the first fine step (y + c inside) or
-// at the second (y + 2c inside; a box being convex, y + c is then in the ghost layer). The coarse
-// streaming passes on the rest, (1 - phi) g*_i, so that a uniform state stays uniform and mass is
-// exact (docs/lbm.md, "Grid refinement").
-double RefinedLattice::fraction_taken_by_fine(int x, int y, int z, int i) const {
+/// Offset of fine cell a's centre from its parent's centre, in coarse cells: -1/4 or +1/4.
+double child_offset(int a) { return a - 2 * floor_half(a) == 1 ? 0.25 : -0.25; }
+
+// The children of coarse cell X whose population i the fine level takes during the coarse step: the
+// explosion gives X's value to its 8 children, the fine level streams them twice (the ghost children
+// are not collided), and a child's value enters the box at the first fine step (y + c inside) or at
+// the second (y + 2c inside; a box being convex, y + c is then in the ghost layer). The coarse
+// streaming passes on the rest, so that a uniform state stays uniform and mass is exact
+// (docs/lbm.md, "Grid refinement").
+void RefinedLattice::children_entering(int x, int y, int z, int i, int& count,
+                                       std::array<double, 3>& offset_sum) const {
   const auto& lo = config_.fine_box.lo;
   const auto& c = Lat::set.c[i];
-  int taken = 0;
+  count = 0;
+  offset_sum = {0.0, 0.0, 0.0};
   for (int k = 0; k < 8; ++k) {
     const int a = 2 * (x - lo[0]) + (k & 1), b = 2 * (y - lo[1]) + ((k >> 1) & 1), cz = 2 * (z - lo[2]) + (k >> 2);
-    if (in_fine_box(a + c[0], b + c[1], cz + c[2]) || in_fine_box(a + 2 * c[0], b + 2 * c[1], cz + 2 * c[2])) ++taken;
+    if (!in_fine_box(a + c[0], b + c[1], cz + c[2]) && !in_fine_box(a + 2 * c[0], b + 2 * c[1], cz + 2 * c[2]))
+      continue;
+    ++count;
+    offset_sum[0] += child_offset(a);
+    offset_sum[1] += child_offset(b);
+    offset_sum[2] += child_offset(cz);
   }
-  return taken / 8.0;
+}
+
+int RefinedLattice::uncovered_neighbour(int x, int y, int z) const {
+  const auto& n = config_.coarse_cells;
+  if (config_.walls_y && (y < 0 || y >= n[1])) return -1;
+  const auto wrap = [](int v, int size) { return ((v % size) + size) % size; };
+  x = wrap(x, n[0]);
+  y = wrap(y, n[1]);
+  z = wrap(z, n[2]);
+  return covered(x, y, z) ? -1 : coarse_index(x, y, z);
+}
+
+// Slopes per coarse cell of each population: central differences, one-sided where a neighbour is
+// covered by the box or past a wall (second order in the cell, first order there).
+void RefinedLattice::compute_slopes(const std::vector<double>& values, std::vector<double>& slopes, int x, int y,
+                                    int z) const {
+  const int cell = coarse_index(x, y, z);
+  for (int d = 0; d < 3; ++d) {
+    const int e[3] = {d == 0, d == 1, d == 2};
+    const int up = uncovered_neighbour(x + e[0], y + e[1], z + e[2]);
+    const int down = uncovered_neighbour(x - e[0], y - e[1], z - e[2]);
+    for (int i = 0; i < Q; ++i) {
+      const double here = values[static_cast<std::size_t>(cell) * Q + i];
+      const double above = up >= 0 ? values[static_cast<std::size_t>(up) * Q + i] : here;
+      const double below = down >= 0 ? values[static_cast<std::size_t>(down) * Q + i] : here;
+      const double span = (up >= 0 ? 1.0 : 0.0) + (down >= 0 ? 1.0 : 0.0);
+      slopes[3 * (static_cast<std::size_t>(cell) * Q + i) + d] = span > 0.0 ? (above - below) / span : 0.0;
+    }
+  }
 }
 
 void RefinedLattice::initialise(const InitialState& state) {
@@ -182,20 +228,32 @@ void RefinedLattice::collide_coarse() {
       }
 }
 
-// Explosion: the interface cells' post-collision state as the fine level holds it (rescaled or
-// copied, collide_cell), given alike to the 8 children (Rohde et al. 2006's homogeneous
-// distribution: zeroth order in space).
+// Explosion: the post-collision state of the cells around the box as the fine level holds it
+// (rescaled or copied, collide_cell), and, for the linear explosion, the slopes of it and of the
+// coarse post-collision state in the interface cells. A child's value is the parent's plus its
+// offset (+-1/4 per axis) times the slope; the 8 children average to the parent's value (Rohde et
+// al. 2006's homogeneous distribution is the case of zero slopes).
 void RefinedLattice::explode() {
   const auto coarse = coarse_parameters(config_);
   const auto fine = fine_parameters(config_, tau_fine_);
   const auto& box = config_.fine_box;
   double scratch[Q];
+  // The interface layer and its neighbours, whose values the slopes read.
+  for (int z = box.lo[2] - 2; z <= box.hi[2] + 1; ++z)
+    for (int y = box.lo[1] - 2; y <= box.hi[1] + 1; ++y)
+      for (int x = box.lo[0] - 2; x <= box.hi[0] + 1; ++x) {
+        const int cell = uncovered_neighbour(x, y, z);
+        if (cell < 0) continue;
+        collide_cell(&coarse_[cell * Q], coarse, fine, config_.rescale_non_equilibrium, scratch,
+                     &coarse_exploded_[cell * Q]);
+      }
+  if (!config_.linear_explosion) return;
   for (int z = box.lo[2] - 1; z <= box.hi[2]; ++z)
     for (int y = box.lo[1] - 1; y <= box.hi[1]; ++y)
       for (int x = box.lo[0] - 1; x <= box.hi[0]; ++x) {
         if (covered(x, y, z)) continue;
-        const int cell = coarse_index(x, y, z) * Q;
-        collide_cell(&coarse_[cell], coarse, fine, config_.rescale_non_equilibrium, scratch, &coarse_exploded_[cell]);
+        compute_slopes(coarse_exploded_, coarse_exploded_slope_, x, y, z);
+        compute_slopes(coarse_post_, coarse_post_slope_, x, y, z);
       }
 }
 
@@ -213,8 +271,8 @@ void RefinedLattice::collide_fine() {
       for (int a = 0; a < fine_cells_[0]; ++a) {
         const int cell = fine_index(a, b, c) * Q;
         // Only the outer fine layer sends populations out of the box.
-        const bool outer = a == 0 || b == 0 || c == 0 || a == fine_cells_[0] - 1 || b == fine_cells_[1] - 1 ||
-                           c == fine_cells_[2] - 1;
+        const bool outer =
+            a == 0 || b == 0 || c == 0 || a == fine_cells_[0] - 1 || b == fine_cells_[1] - 1 || c == fine_cells_[2] - 1;
         collide_cell(&fine_[cell], fine, coarse, config_.rescale_non_equilibrium, &fine_post_[cell],
                      outer ? &fine_post_as_coarse_[cell] : nullptr);
       }
@@ -238,9 +296,16 @@ void RefinedLattice::stream_fine(int substep) {
             g[i] = fine_post_[fine_index(a - v[0], b - v[1], c - v[2]) * Q + i];
             continue;
           }
-          const int source = parent_of_fine(a - reach * v[0], b - reach * v[1], c - reach * v[2]) * Q;
-          g[i] = coarse_exploded_[source + i];
-          g[0] += coarse_post_[source + i] - coarse_exploded_[source + i];
+          const int ga = a - reach * v[0], gb = b - reach * v[1], gc = c - reach * v[2];
+          const std::size_t at = static_cast<std::size_t>(parent_of_fine(ga, gb, gc)) * Q + i;
+          const double offset[3] = {child_offset(ga), child_offset(gb), child_offset(gc)};
+          double value = coarse_exploded_[at], mass = coarse_post_[at];
+          for (int d = 0; d < 3; ++d) {
+            value += offset[d] * coarse_exploded_slope_[3 * at + d];
+            mass += offset[d] * coarse_post_slope_[3 * at + d];
+          }
+          g[i] = value;
+          g[0] += mass - value;
         }
       }
 }
@@ -266,8 +331,7 @@ void RefinedLattice::accumulate_coalescence(int substep) {
       }
 }
 
-// Pull streaming on the coarse level: from an uncovered neighbour the share (1 - phi) the fine level
-// did not take, from a covered one nothing, from a wall (half-way bounce-back) the cell's own opposite
+// Pull streaming on the coarse level: from an uncovered neighbour what the fine level did not take, from a covered one nothing, from a wall (half-way bounce-back) the cell's own opposite
 // population; then the coalescence gathered over the two fine steps.
 void RefinedLattice::stream_coarse() {
   const auto& n = config_.coarse_cells;
@@ -292,7 +356,12 @@ void RefinedLattice::stream_coarse() {
             }
             source = coarse_index(sx, syw, sz) * Q;
           }
-          coarse_[cell + i] = (1.0 - coarse_fine_share_[source + j]) * coarse_post_[source + j];
+          // What the fine level took: its share of the children, each the linear profile's value.
+          const std::size_t at = static_cast<std::size_t>(source) + j;
+          double taken = coarse_fine_share_[at] * coarse_post_[at];
+          for (int d = 0; d < 3; ++d)
+            taken += 0.125 * coarse_entering_offset_[3 * at + d] * coarse_post_slope_[3 * at + d];
+          coarse_[cell + i] = coarse_post_[at] - taken;
         }
         for (int i = 0; i < Q; ++i) {
           coarse_[cell + i] += coarse_coalesced_[cell + i];

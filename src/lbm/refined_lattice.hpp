@@ -17,12 +17,14 @@
 // Interface: the volumetric, cell-centred, mass-conserving scheme of Rohde, Kandhai, Derksen and
 // van den Akker (2006, Int. J. Numer. Meth. Fluids 51, 439, doi:10.1002/fld.1140), the one waLBerla
 // uses (Schornbaum and Ruede 2016, SIAM J. Sci. Comput. 38, C96, doi:10.1137/15M1035240): a coarse
-// cell's post-collision populations are given uniformly to its 8 children (explosion), and what the
-// fine cells send out over two fine steps is summed into the coarse cell it lands in, weighted by
-// the volume 1/8 (coalescence). Optionally, the non-equilibrium part of what crosses is rescaled
-// between the levels (Dupuis and Chopard 2003, Phys. Rev. E 67, 066707,
-// doi:10.1103/PhysRevE.67.066707), with the mass it moves between directions returned to the
-// receiving cell's rest population so that mass stays exact.
+// cell's post-collision populations are given to its 8 children (explosion; linear in the cell by
+// default, as waLBerla, or uniform, as Rohde et al.), what the fine level takes of each is removed
+// from what the coarse level streams on, and what the fine cells send out over two fine steps is
+// summed into the coarse cell it lands in, weighted by the volume 1/8 (coalescence). Optionally, the
+// non-equilibrium part of what crosses is rescaled between the levels (Dupuis and Chopard 2003,
+// Phys. Rev. E 67, 066707, doi:10.1103/PhysRevE.67.066707), with the mass it moves between
+// directions returned to the receiving cell's rest population so that mass stays exact; off by
+// default, because momentum then does not stay exact (docs/lbm.md, "Grid refinement").
 #include <array>
 #include <functional>
 #include <vector>
@@ -50,8 +52,14 @@ struct RefinedLatticeConfig {
   /// Force density per coarse lattice unit (Guo forcing), uniform; the fine level uses half of it.
   std::array<double, 3> force_coarse{0.0, 0.0, 0.0};
   /// Rescale the non-equilibrium part of the populations crossing the interface (Dupuis and
-  /// Chopard 2003); off: plain copy and average, as in Rohde et al. 2006 and waLBerla.
-  bool rescale_non_equilibrium = true;
+  /// Chopard 2003); off: plain copy and average, as in Rohde et al. 2006 and waLBerla. Off by
+  /// default: the rescaled populations carry another momentum than the ones the other level gave,
+  /// and that momentum source at the interface costs 7.7% of the channel flow at H = 16 (docs/lbm.md).
+  bool rescale_non_equilibrium = false;
+  /// Explosion with a linear profile in each coarse cell (slopes by central differences of the
+  /// neighbours, one-sided next to the box or a wall), whose 8 children average to the coarse value,
+  /// as waLBerla's default; off: the same value in all 8 children, as in Rohde et al. 2006.
+  bool linear_explosion = true;
 };
 
 /// Density and velocity (Guo's half-force included) of one cell, in lattice units of its level,
@@ -105,15 +113,23 @@ class RefinedLattice {
   /// The coarse cell holding the fine-level position (a, b, c) (fine cells from the box corner,
   /// any sign), with the periodic wrap.
   int parent_of_fine(int a, int b, int c) const;
-  double fraction_taken_by_fine(int x, int y, int z, int i) const;
+  /// The children of (x, y, z) whose population i enters the box during the coarse step: how many,
+  /// and the sum of their offsets from the parent's centre.
+  void children_entering(int x, int y, int z, int i, int& count, std::array<double, 3>& offset_sum) const;
+  /// Index of coarse cell (x, y, z) after the periodic wrap, or -1 past a wall or inside the box.
+  int uncovered_neighbour(int x, int y, int z) const;
+  void compute_slopes(const std::vector<double>& values, std::vector<double>& slopes, int x, int y, int z) const;
 
   RefinedLatticeConfig config_;
   double tau_fine_ = 1.0;
   std::array<int, 3> fine_cells_{};
   // Coarse level: populations before collision (`coarse_`), after (`coarse_post_`), the explosion
-  // values of the interface cells (`coarse_exploded_`), the share of each population the fine level
-  // takes (`coarse_fine_share_`), and the coalescence gathered over the two fine steps.
-  std::vector<double> coarse_, coarse_post_, coarse_exploded_, coarse_fine_share_, coarse_coalesced_;
+  // values of the cells around the box (`coarse_exploded_`), the slopes (3 per population) of both
+  // for the linear explosion, for each population of the interface cells the share of children that
+  // enter the box and the sum of their offsets, and the coalescence gathered over the two fine steps.
+  std::vector<double> coarse_, coarse_post_, coarse_exploded_, coarse_coalesced_;
+  std::vector<double> coarse_post_slope_, coarse_exploded_slope_;
+  std::vector<double> coarse_fine_share_, coarse_entering_offset_;
   // Fine level: before collision, after, and the post-collision state expressed on the coarse level
   // (what the coalescence sends).
   std::vector<double> fine_, fine_post_, fine_post_as_coarse_;

@@ -11,6 +11,7 @@
 
 #include "lbm/refined_lattice.hpp"
 #include "lbm/solver.hpp"
+#include "steady.hpp"
 
 namespace test_refined_lattice {
 
@@ -34,7 +35,7 @@ void for_each_cell(const RefinedLattice& lattice, F&& f) {
           0.125);
 }
 
-TEST(RefinedLattice, UniformFlowStaysUniform) {
+TEST(LbmRefinedLattice, UniformFlowStaysUniform) {
   // A uniform state is a fixed point of the scheme only if the explosion, the shares phi and the
   // coalescence fit together at every face, edge and corner of the box: any misplaced or missing
   // population shows up as an O(u) = O(1e-2) jump within one step.
@@ -59,7 +60,7 @@ TEST(RefinedLattice, UniformFlowStaysUniform) {
   }
 }
 
-TEST(RefinedLattice, MassIsConservedToRoundOff) {
+TEST(LbmRefinedLattice, MassIsConservedToRoundOff) {
   // A non-uniform density and velocity field crossing every part of the box's boundary, over
   // 5000 coarse = 1e4 fine steps, with and without the non-equilibrium rescaling.
   for (const bool rescale : {true, false}) {
@@ -76,9 +77,9 @@ TEST(RefinedLattice, MassIsConservedToRoundOff) {
     });
     const double initial = lattice.mass_deviation();
     double drift = 0.0;
-    for (int s = 0; s < 5000; ++s) {
+    for (int s = 1; s <= 5000; ++s) {
       lattice.step();
-      drift = std::max(drift, std::abs(lattice.mass_deviation() - initial));
+      if (s % 50 == 0) drift = std::max(drift, std::abs(lattice.mass_deviation() - initial));
     }
     std::printf("mass, rescale %d: initial deviation %.6e, max drift over 1e4 fine steps %.2e (of %d cell volumes)\n",
                 rescale, initial, drift, 12 * 12 * 12);
@@ -90,68 +91,151 @@ TEST(RefinedLattice, MassIsConservedToRoundOff) {
 }
 
 struct ChannelError {
-  double max_relative = 0.0;            // max over all cells of |u - exact| / u_max
-  double max_relative_near_box = 0.0;   // the same over the cells within one coarse cell of the box's faces
-  double max_relative_far = 0.0;        // the cells further away
+  double max_relative = 0.0;       // max over all cells of |u - exact| / u_max
+  double max_relative_near = 0.0;  // the same over the cells within one coarse cell of the box's x, y faces
+  double max_relative_far = 0.0;   // the other cells
 };
 
-/// Force-driven channel between half-way bounce-back walls at y = 0 and H, periodic in x and z,
-/// the fine box in the middle of the channel, away from the walls. BGK with tau_c - 1/2 = sqrt(3/16)
-/// (Lambda = 3/16 for BGK): the uniform coarse grid then gives the parabola to round-off (the wall at
-/// mid-link, Guo's forcing exact for a quadratic profile; Ginzburg et al. 2008), so what is left is
-/// the interface's error.
-ChannelError run_channel(int height, bool rescale) {
+// The channel of both tests: H = `height` coarse cells, BGK with tau - 1/2 = sqrt(3/16) (Lambda =
+// (tau - 1/2)^2 = 3/16 for BGK): on a uniform grid the half-way walls sit exactly at mid-link and
+// Guo's forcing is exact for the quadratic profile, so the parabola comes out to round-off
+// (Ginzburg, Verhaeghe and d'Humieres 2008, doi:10.4208/cicp.2008.v3.p427) and what is left with
+// the fine box is the interface's error.
+constexpr double kChannelTau = 0.5 + 0.4330127018922193;  // 1/2 + sqrt(3/16)
+constexpr double kChannelUMax = 0.01;
+double channel_force(int height) { return 8.0 * ((kChannelTau - 0.5) / 3.0) * kChannelUMax / (height * height); }
+double channel_exact(int height, double y) {
+  return channel_force(height) / (2.0 * (kChannelTau - 0.5) / 3.0) * y * (height - y);
+}
+
+/// Walls at y = 0 and H (half-way bounce-back, coarse level), periodic in x and z; the fine box in
+/// the middle half of the channel, away from the walls: x in [H/8, 3H/8) of H/2, y in [H/4, 3H/4),
+/// z in [1, 3) of 4. Started from the closed form, run until a block of 200 coarse steps changes
+/// the volume-weighted sum of u_x by less than 1e-8 of it: the error left is that change times the
+/// slowest mode's decay time over the block (H^2 / (pi^2 nu) / 200 < 4 at H = 32), < 1e-7 of u_max.
+ChannelError run_refined_channel(int height) {
   RefinedLatticeConfig cfg;
   cfg.coarse_cells = {height / 2, height, 4};
   cfg.fine_box = {{height / 8, height / 4, 1}, {3 * height / 8, 3 * height / 4, 3}};
   cfg.walls_y = true;
-  cfg.tau_coarse = 0.5 + std::sqrt(3.0 / 16.0);
-  cfg.rescale_non_equilibrium = rescale;
-  const double nu = (cfg.tau_coarse - 0.5) / 3.0, u_max = 0.01;
-  const double force = 8.0 * nu * u_max / (height * height);
-  cfg.force_coarse = {force, 0.0, 0.0};
+  cfg.tau_coarse = kChannelTau;
+  cfg.force_coarse = {channel_force(height), 0.0, 0.0};
   RefinedLattice lattice(cfg);
-  // Starting from the closed form leaves only the interface's disturbance to decay.
-  lattice.initialise([&](double, double y, double) {
-    return CellMoments{1.0, {force / (2.0 * nu) * y * (height - y), 0.0, 0.0}};
-  });
-  // Steady when a block of 200 coarse steps changes no velocity by more than 1e-15 (1e-13 of u_max):
-  // the error left is below that times (diffusion time / block) ~ 1e-12 of u_max.
-  const auto max_velocity_sum = [&] {
+  lattice.initialise([&](double, double y, double) { return CellMoments{1.0, {channel_exact(height, y), 0.0, 0.0}}; });
+  const auto flow_sum = [&] {
     double sum = 0.0;
     for_each_cell(lattice, [&](const CellMoments& m, double, double, double, double v) { sum += v * m.u[0]; });
     return sum;
   };
-  double previous = max_velocity_sum();
-  for (int block = 0; block < 2000; ++block) {
+  double previous = flow_sum();
+  for (int block = 0; block < 1000; ++block) {
     for (int s = 0; s < 200; ++s) lattice.step();
-    const double now = max_velocity_sum();
-    if (std::abs(now - previous) < 1e-12 * height * height) break;
+    const double now = flow_sum();
+    if (std::abs(now - previous) < 1e-8 * std::abs(now)) break;
     previous = now;
   }
   ChannelError e;
   const auto& box = cfg.fine_box;
+  // Near: within one coarse cell of the box's x or y faces. The z faces are left out of the
+  // classification: the domain is 4 cells thick, so every cell is within one cell of them.
   for_each_cell(lattice, [&](const CellMoments& m, double x, double y, double, double) {
-    const double exact = force / (2.0 * nu) * y * (height - y);
-    const double err = std::abs(m.u[0] - exact) / u_max;
+    const double err = std::abs(m.u[0] - channel_exact(height, y)) / kChannelUMax;
+    const auto near_face = [](double p, int lo, int hi) { return std::abs(p - lo) < 1.0 || std::abs(p - hi) < 1.0; };
+    const bool near = near_face(x, box.lo[0], box.hi[0]) || near_face(y, box.lo[1], box.hi[1]);
     e.max_relative = std::max(e.max_relative, err);
-    const bool near = (std::abs(x - box.lo[0]) < 1.0 || std::abs(x - box.hi[0]) < 1.0) ||
-                      (std::abs(y - box.lo[1]) < 1.0 || std::abs(y - box.hi[1]) < 1.0);
-    (near ? e.max_relative_near_box : e.max_relative_far) = std::max(near ? e.max_relative_near_box : e.max_relative_far, err);
+    double& part = near ? e.max_relative_near : e.max_relative_far;
+    part = std::max(part, err);
   });
   return e;
 }
 
-TEST(RefinedLattice, PoiseuilleChannelAcrossTheFineBox) {
-  for (const bool rescale : {true, false}) {
-    const auto coarse = run_channel(16, rescale);
-    const auto fine = run_channel(32, rescale);
-    const double order = std::log2(coarse.max_relative / fine.max_relative);
-    std::printf("Poiseuille, rescale %d: max |u - exact| / u_max H = 16: %.3e (near box %.3e, far %.3e); H = 32: %.3e "
-                "(near %.3e, far %.3e); order %.2f\n",
-                rescale, coarse.max_relative, coarse.max_relative_near_box, coarse.max_relative_far, fine.max_relative,
-                fine.max_relative_near_box, fine.max_relative_far, order);
-  }
+/// The same channel on the uniform coarse grid (the AA solver, BGK), one cell thick in x and z.
+double uniform_channel_error(int height) {
+  using namespace settle::lbm;
+  SolverConfig cfg;
+  cfg.collision = CollisionKind::bgk;
+  cfg.precision = Precision::float64;
+  cfg.nx = 1;
+  cfg.ny = height;
+  cfg.nz = 1;
+  cfg.boundaries = {Boundary::periodic, Boundary::no_slip, Boundary::periodic};
+  cfg.tau = kChannelTau;
+  cfg.body_force = Eigen::Vector3d(channel_force(height), 0.0, 0.0);
+  auto solver = make_solver(cfg);
+  solver->initialise([](int, int, int) { return CellState{}; });
+  // Steady as in test_poiseuille.cpp: a 200-step block changes u by < 1e-16.
+  settle::lbm::testing::run_to_steady_state(*solver, 1e-16, 400 * static_cast<std::int64_t>(height * height / 0.15));
+  double worst = 0.0;
+  for (int j = 0; j < height; ++j)
+    worst = std::max(worst, std::abs(solver->cell_velocity(0, j, 0).x() - channel_exact(height, j + 0.5)));
+  return worst / kChannelUMax;
+}
+
+TEST(LbmRefinedLattice, PoiseuilleChannelAcrossTheFineBox) {
+  const double uniform = uniform_channel_error(16);
+  const auto coarse = run_refined_channel(16);
+  const auto fine = run_refined_channel(32);
+  const double order_near = std::log2(coarse.max_relative_near / fine.max_relative_near);
+  const double order_far = std::log2(coarse.max_relative_far / fine.max_relative_far);
+  std::printf(
+      "Poiseuille, max |u - exact| / u_max: uniform coarse grid H = 16: %.2e; with the fine box H = 16: %.3e "
+      "(near the box %.3e, elsewhere %.3e), H = 32: %.3e (near %.3e, elsewhere %.3e); order near %.2f, "
+      "elsewhere %.2f\n",
+      uniform, coarse.max_relative, coarse.max_relative_near, coarse.max_relative_far, fine.max_relative,
+      fine.max_relative_near, fine.max_relative_far, order_near, order_far);
+  // Without the box the parabola is exact to round-off (Lambda = 3/16): all the error below is the
+  // interface's.
+  EXPECT_LT(uniform, 1e-10);
+  // Every cell of both levels within 1% of u_max at H = 16 (measured 0.38%): the homogeneous
+  // (zeroth-order) explosion gives 1.8% and the rescaled non-equilibrium 9% (docs/lbm.md).
+  EXPECT_LT(coarse.max_relative, 1e-2);
+  // The interface is first order (the fine level's ghost values are the coarse state of the start
+  // of the coarse step for both fine steps, and its non-equilibrium part is the coarse level's):
+  // away from the box the error halves from H = 16 to 32 (measured order 1.03; 0.8 allows for the
+  // two-point estimate). Next to the box it converges more slowly (measured 0.74); the bound
+  // asserts convergence there, not first order (docs/lbm.md, "Grid refinement").
+  EXPECT_GT(order_far, 0.8);
+  EXPECT_GT(order_near, 0.5);
+}
+
+TEST(LbmRefinedLattice, ShearWaveDecaysAtTheOneViscosity) {
+  // u_x = U sin(k y), k = 2 pi / L, in a periodic box; the fine box spans y in [L/4, 3L/4), the
+  // wave's two extrema and the zero crossing between them, and part of x and z. The amplitude (the
+  // volume-weighted projection on sin(k y) over both levels) decays as exp(-nu k^2 t) if both
+  // levels carry the viscosity nu = cs^2 (tau_c - 1/2).
+  const int length = 32;
+  RefinedLatticeConfig cfg;
+  cfg.coarse_cells = {16, length, 8};
+  cfg.fine_box = {{4, length / 4, 2}, {12, 3 * length / 4, 6}};
+  cfg.tau_coarse = 0.8;
+  const double k = 2.0 * std::numbers::pi / length, amplitude = 0.01;
+  const double nu = (cfg.tau_coarse - 0.5) / 3.0;
+  RefinedLattice lattice(cfg);
+  lattice.initialise([&](double, double y, double) {
+    return CellMoments{1.0, {amplitude * std::sin(k * y), 0.0, 0.0}};
+  });
+  const auto projection = [&] {
+    double along = 0.0, norm = 0.0;
+    for_each_cell(lattice, [&](const CellMoments& m, double, double y, double, double volume) {
+      along += volume * m.u[0] * std::sin(k * y);
+      norm += volume * std::sin(k * y) * std::sin(k * y);
+    });
+    return along / norm;
+  };
+  // From t = 100 (after the initial layer of the equilibrium start, a few tau) to t = 600, two
+  // e-foldings: the rate is measured to ~1e-6 by the projection's round-off.
+  const int start = 100, end = 600;
+  for (int s = 0; s < start; ++s) lattice.step();
+  const double first = projection();
+  for (int s = start; s < end; ++s) lattice.step();
+  const double last = projection();
+  const double rate = std::log(first / last) / (end - start);
+  const double expected = nu * k * k;
+  std::printf("shear wave L = %d, tau_c = %.2f: decay rate %.6e per coarse step, nu k^2 = %.6e, ratio - 1 = %.2e\n",
+              length, cfg.tau_coarse, rate, expected, rate / expected - 1.0);
+  // 1% (issue 71): the lattice's own O((k dx)^2) dispersion at k dx = 0.2 is ~1e-3 (BGK), a level
+  // with twice or half the viscosity would be off by tens of per cent.
+  EXPECT_NEAR(rate / expected, 1.0, 0.01);
 }
 
 }  // namespace test_refined_lattice
