@@ -279,11 +279,12 @@ void RefinedLattice::collide_fine() {
 }
 
 // Pull streaming on the fine level. A population coming from outside the box is the explosion value
-// of the coarse cell it started from: at the first fine step the ghost child x - c holds its parent's
-// value; at the second, the ghost child x - c holds what streamed into it at the first, the value
-// of the parent of x - 2c (the ghost layer streams but does not collide). With the rescaling, the
-// value differs from the coarse population it stands for; the difference goes to the rest
-// population so that the cell receives exactly the mass the coarse level gave.
+// of the ghost child it started from: at the first fine step the child x - c; at the second, the
+// child x - 2c, whose value streamed into x - c at the first (the ghost layer streams but does not
+// collide). A child's value is its parent's plus its offset times the parent's slope (explode). With
+// the rescaling, the value differs from the coarse population it stands for (the same profile of
+// the coarse post-collision state); the difference goes to the rest population so that the cell
+// receives exactly the mass the coarse level gave.
 void RefinedLattice::stream_fine(int substep) {
   const int reach = substep == 1 ? 1 : 2;
   for (int c = 0; c < fine_cells_[2]; ++c)
@@ -331,8 +332,9 @@ void RefinedLattice::accumulate_coalescence(int substep) {
       }
 }
 
-// Pull streaming on the coarse level: from an uncovered neighbour what the fine level did not take, from a covered one nothing, from a wall (half-way bounce-back) the cell's own opposite
-// population; then the coalescence gathered over the two fine steps.
+// Pull streaming on the coarse level: from an uncovered neighbour what the fine level did not take,
+// from a covered one nothing, from a wall (half-way bounce-back) the cell's own opposite population;
+// then the coalescence gathered over the two fine steps.
 void RefinedLattice::stream_coarse() {
   const auto& n = config_.coarse_cells;
   const auto wrap = [](int v, int size) { return (v + size) % size; };
