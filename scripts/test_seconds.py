@@ -12,7 +12,10 @@ becomes heavy when a run measures it so.
                                           twice HEAVY or more (it must be recorded: `record`)
   test_seconds.py record JUNIT            write the run's seconds into the record
 
-JUNIT is the file of `ctest --output-junit`.
+JUNIT is the file of `ctest --output-junit`. A run on a machine busy with other work takes longer
+throughout: `check` and `record` divide the run's seconds by its load factor, the median ratio of
+measured to recorded seconds over the tests recorded at 1 s or more (1 when fewer than 20 such
+tests ran), so that the record and the limit keep the scale of an idle machine.
 """
 import os
 import re
@@ -66,6 +69,22 @@ def junit_seconds(path):
     return seconds
 
 
+def load_factor(seconds, record):
+    """Median of measured over recorded seconds, over the tests recorded at 1 s or more."""
+    ratios = sorted(seconds[name] / record[name][0] for name in seconds if name in record and record[name][0] >= 1.0)
+    if len(ratios) < 20:
+        return 1.0
+    middle = len(ratios) // 2
+    return ratios[middle] if len(ratios) % 2 else 0.5 * (ratios[middle - 1] + ratios[middle])
+
+
+def normalised_seconds(path):
+    """The run's seconds on the record's scale, and the load factor they were divided by."""
+    seconds = junit_seconds(path)
+    factor = load_factor(seconds, read_record())
+    return {name: value / factor for name, value in seconds.items()}, factor
+
+
 def cmd_heavy_regex(_args):
     names = heavy_names(read_record())
     # ctest matches -E anywhere in the name: anchor each name, escape its dots and slashes.
@@ -85,10 +104,10 @@ def cmd_verify(args):
 
 
 def cmd_check(args):
-    seconds = junit_seconds(args[0])
-    slowest = sorted(seconds.items(), key=lambda item: -item[1])[:15]
+    seconds, factor = normalised_seconds(args[0])
+    print(f"test_seconds: this run's load factor {factor:.2f} (seconds below are divided by it)")
     print("test_seconds: the slowest tests of this run:")
-    for name, value in slowest:
+    for name, value in sorted(seconds.items(), key=lambda item: -item[1])[:15]:
         print(f"  {value:7.1f} s  {name}")
     limit = heavy_seconds()
     slow = [(name, value) for name, value in seconds.items() if value >= limit]
@@ -103,10 +122,11 @@ def cmd_check(args):
 
 def cmd_record(args):
     record = read_record()
-    for name, value in junit_seconds(args[0]).items():
+    seconds, factor = normalised_seconds(args[0])
+    for name, value in seconds.items():
         record[name] = (value, "measured")
     write_record(record)
-    print(f"test_seconds: {RECORD}: {len(heavy_names(record))} heavy test(s)")
+    print(f"test_seconds: {RECORD}: load factor {factor:.2f}; {len(heavy_names(record))} heavy test(s)")
 
 
 COMMANDS = {"heavy-regex": (cmd_heavy_regex, 0), "verify": (cmd_verify, 1), "check": (cmd_check, 1),
