@@ -132,6 +132,7 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
                      a.window_samples, a.averaged_over_terminal_window ? "terminal window" : "second half of the run");
   out << fmt::format("  velocity         |U| = {:.5g} m/s, along g {:.5g} m/s, path {:.3g} deg from vertical\n",
                      a.terminal_speed_si, a.vertical_velocity_si, a.path_angle_deg);
+  out << fmt::format("  result           {}\n", analysis::velocity_statement(a));
   if (a.drift_azimuth_deg)
     out << fmt::format(
         "  drift            azimuth {:.4g} deg (from x, counter-clockwise from above), turning {} deg/s\n",

@@ -246,9 +246,19 @@ void add_lift_spectrum(nlohmann::json& j, const coupling::Simulation& sim, const
   j["lift_spectral_concentration"] = peak.found ? nlohmann::json(peak.concentration) : nlohmann::json(nullptr);
 }
 
-void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary) {
-  j["terminal_velocity"] = summary.terminal_velocity_si;
-  j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary, bool free_body) {
+  if (free_body) {
+    // No terminal state was detected (the analysis was not made): the second half's mean is
+    // given for what it is, and nothing is called terminal.
+    j["terminal_velocity"] = nullptr;
+    j["terminal_vertical_velocity"] = nullptr;
+    j["late_mean_velocity"] = summary.terminal_velocity_si;
+    j["late_mean_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+  } else {
+    // The imposed speed of a towed body (0 for a fixed one), under its former key.
+    j["terminal_velocity"] = summary.terminal_velocity_si;
+    j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+  }
   j["reynolds"] = summary.reynolds;
   j["drag_coefficient"] = summary.drag_coefficient;
   j["galileo"] = summary.galileo;
@@ -354,38 +364,48 @@ std::optional<analysis::TerminalStateDetector> terminal_detector(const io::CaseV
 // correlations) on the series just written; true when it was added. The run itself succeeded: an
 // analysis that cannot be made (too few samples, say) becomes a warning in summary.json rather
 // than a failed run.
-bool add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim, const fs::path& timeseries,
-                  Console& console) {
-  if (sim.body().motion_kind() != body::MotionKind::free) return false;
+std::optional<analysis::Analysis> add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim,
+                                               const fs::path& timeseries, Console& console) {
+  if (sim.body().motion_kind() != body::MotionKind::free) return std::nullopt;
   try {
-    const analysis::Analysis result = analyse_timeseries(sim.setup(), timeseries, analysis::AnalysisOptions{});
+    analysis::Analysis result = analyse_timeseries(sim.setup(), timeseries, analysis::AnalysisOptions{});
     const nlohmann::ordered_json fields = analysis_summary_fields(sim.setup(), result);
     for (const auto& [key, value] : fields.items()) summary_document[key] = value;
-    return true;
+    return result;
   } catch (const std::exception& e) {
     const std::string warning =
         fmt::format("analysis not made: {} (settle analyze can retry with other options)", e.what());
     console.warning(warning);
     summary_document["warnings"].push_back(warning);
-    return false;
+    return std::nullopt;
   }
 }
 
+// The run's result in one line, calling a velocity terminal only when the analysis detected the
+// terminal state (analysis::velocity_statement).
+std::string result_line(const nlohmann::json& summary_document, const std::optional<analysis::Analysis>& analysed,
+                        bool free_body) {
+  if (!summary_document.contains("reynolds")) return {};
+  // No drag coefficient (null) for a body in wall contact over the averaging window.
+  const nlohmann::json& drag = summary_document["drag_coefficient"];
+  const std::string groups =
+      fmt::format("Re = {:.4g}, C_D = {}, regime {}", summary_document["reynolds"].get<double>(),
+                  drag.is_number() ? fmt::format("{:.4g}", drag.get<double>()) : "none (wall contact)",
+                  summary_document["regime"].get<std::string>());
+  if (analysed) return fmt::format("{}; {}", analysis::velocity_statement(*analysed), groups);
+  if (free_body)
+    return fmt::format("not terminal (not analysed): mean velocity along g over the second half {:.5g} m/s; {}",
+                       summary_document["late_mean_vertical_velocity"].get<double>(), groups);
+  return groups;
+}
+
 void report_end(Console& console, const coupling::Simulation& sim, const coupling::RunResult& result,
-                const nlohmann::json& summary_document, const fs::path& dir) {
+                const std::string& result_text, const fs::path& dir) {
   console.info("wall time by sub-step of the coupled step:");
   for (const auto& [name, seconds] : sim.timers().entries())
     console.info(fmt::format("  {:<20} {:8.2f} s  {:5.1f}%", name, seconds,
                              result.wall_seconds > 0.0 ? 100.0 * seconds / result.wall_seconds : 0.0));
-  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime")) {
-    // No drag coefficient (null) for a body in wall contact over the averaging window.
-    const nlohmann::json& drag = summary_document["drag_coefficient"];
-    console.info(fmt::format("settling at {:.5g} m/s, Re = {:.4g}, C_D = {}, regime {}",
-                             summary_document["terminal_vertical_velocity"].get<double>(),
-                             summary_document["reynolds"].get<double>(),
-                             drag.is_number() ? fmt::format("{:.4g}", drag.get<double>()) : "none (wall contact)",
-                             summary_document["regime"].get<std::string>()));
-  }
+  if (!result_text.empty()) console.info(result_text);
   console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps, result.wall_seconds,
                            result.mlups, result.stop_reason, dir.string()));
 }
@@ -393,19 +413,23 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
 // summary.json, the run's completion mark (file comment): the loop's figures, the reference the
 // case names, and the results. Each result is computed once: for a free body by the analysis with
 // the correlations, otherwise (or when the analysis cannot be made) from the loop's averages.
-nlohmann::json write_summary(const io::CaseValues& values, const coupling::Simulation& sim,
-                             const coupling::RunResult& result, const std::vector<std::string>& warnings,
-                             const fs::path& dir, Console& console) {
+// Returns the run's result line for the console (result_line).
+std::string write_summary(const io::CaseValues& values, const coupling::Simulation& sim,
+                          const coupling::RunResult& result, const std::vector<std::string>& warnings,
+                          const fs::path& dir, Console& console) {
   nlohmann::json summary_document = run_json(sim, result, warnings);
   // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
   if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
-  if (!add_analysis(summary_document, sim, dir / "timeseries.csv", console)) {
+  const bool free_body = sim.body().motion_kind() == body::MotionKind::free;
+  const std::optional<analysis::Analysis> analysed =
+      add_analysis(summary_document, sim, dir / "timeseries.csv", console);
+  if (!analysed) {
     const coupling::RunSummary averages = coupling::summarise(sim, result);
-    add_run_averages(summary_document, averages);
+    add_run_averages(summary_document, averages, free_body);
     add_lift_spectrum(summary_document, sim, result, averages);
   }
   write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
-  return summary_document;
+  return result_line(summary_document, analysed, free_body);
 }
 
 void run_case(const RunOptions& options) {
@@ -560,8 +584,8 @@ void run_case(const RunOptions& options) {
   if (result.stop_reason == "interrupted")
     throw interrupted_error(signals.signal_number_seen_by_any(sim.communicator()), result, dir, checkpoints.file());
   if (!lead) return;
-  const nlohmann::json summary_document = write_summary(values, sim, result, warnings, dir, console);
-  report_end(console, sim, result, summary_document, dir);
+  const std::string result_text = write_summary(values, sim, result, warnings, dir, console);
+  report_end(console, sim, result, result_text, dir);
 }
 
 }  // namespace
