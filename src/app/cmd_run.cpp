@@ -478,8 +478,14 @@ void run_case(const RunOptions& options) {
     console.warning(*advice);
     warnings.push_back(*advice);
   }
+  const std::optional<TerminalOutlook> outlook = terminal_outlook(setup);
+  if (outlook && outlook->warning) {
+    console.warning(*outlook->warning);
+    warnings.push_back(*outlook->warning);
+  }
   survey_run_directory(dir, restart.has_value(), values);  // refuses before anything is touched
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
+  if (outlook) console.info(fmt::format("{}: {}", name, outlook->line));
   if (options.dry_run) {
     if (options.threads > 0) omp_set_num_threads(options.threads);
     if (lead) std::fputs(run_plan_text(setup, report).c_str(), stdout);
