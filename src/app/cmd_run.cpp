@@ -46,6 +46,7 @@
 #include "coupling/time_control.hpp"
 #include "io/case.hpp"
 #include "io/output_files.hpp"
+#include "io/plausibility.hpp"
 #include "io/preflight.hpp"
 #include "io/pvd.hpp"
 #include "io/vtk.hpp"
@@ -463,6 +464,12 @@ void run_case(const RunOptions& options) {
 
   coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
   for (const std::string& note : setup.shape->notes()) console.info(note);  // a mesh reversed, its shells
+  console.info(fmt::format("{}: {}", name, io::physical_properties_text(setup)));
+  // Before the preflight: a unit slip would otherwise surface as a grid it refuses.
+  for (std::string& w : io::plausibility_warnings(values, setup)) {
+    console.warning(w);
+    warnings.push_back(std::move(w));
+  }
   const fs::path dir = restart                      ? restart->run_dir()
                        : options.output_dir.empty() ? fs::path("runs") / name
                                                     : fs::path(options.output_dir);

@@ -204,6 +204,40 @@ TEST(RunCli, ThePreflightSaysFromWhenTheTerminalStateIsDetectableAndWarnsOfAShor
   EXPECT_EQ(long_run.err.find("too short to detect"), std::string::npos) << long_run.err;
 }
 
+// Unit slips the schema cannot see (every key is SI): a diameter of 2 (mm written as m) and a
+// density of 2.65 (g/cm^3 written as kg/m^3) are named with the value likely meant, before the
+// preflight (which refuses the 2 m spheroid as wider than the 10 mm domain: status 2). The
+// physical inputs are printed at the start; a case without particle.density is refused.
+TEST(RunCli, AUnitSlipIsNamedWithTheValueLikelyMeant) {
+  const std::string base = "--dry-run --threads 1 -o " + scratch("slip").string();
+  const Result metres = run_settle(base + " --set particle.diameter=2");
+  EXPECT_EQ(metres.status, 2) << metres.err;
+  // The default spheroid, aspect ratio 2: d_eq = 2^(1/3) x 2 m = 2.52 m.
+  EXPECT_NE(metres.err.find("particle: a 2.52 m particle (volume-equivalent diameter)? Lengths are in metres; if you "
+                            "meant millimetres, write particle.diameter = 0.002"),
+            std::string::npos)
+      << metres.err;
+  const Result grams = run_settle(base + " --set particle.density=2.65");
+  EXPECT_EQ(grams.status, 0) << grams.err;
+  EXPECT_NE(grams.err.find("particle.density: 2.65 kg/m^3 is lighter than the fluid (998.2 kg/m^3): the particle will "
+                           "rise. Densities are in kg/m^3; if you meant 2.65 g/cm^3, write particle.density = 2650"),
+            std::string::npos)
+      << grams.err;
+  const Result plain = run_settle(base);
+  EXPECT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("if you meant"), std::string::npos) << plain.err;
+  EXPECT_NE(plain.err.find("fluid: rho_f = 998.2 kg/m^3, mu = 0.001 Pa s"), std::string::npos) << plain.err;
+  EXPECT_NE(plain.err.find("rho_p = 1100 kg/m^3 (rho_p/rho_f = 1.102), free"), std::string::npos) << plain.err;
+}
+
+TEST(RunCli, ACaseWithoutTheParticlesDensityIsRefused) {
+  const fs::path case_path = settle::test::write_scratch_case(
+      "no_density", "[particle]\nshape = \"sphere\"\ndiameter = 1.0e-3\n[domain]\nsize = [8e-3, 8e-3, 8e-3]\n");
+  const Result r = run_settle(case_path.string() + " --dry-run -o " + scratch("no_density_run").string());
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("particle.density: required (kg/m^3;"), std::string::npos) << r.err;
+}
+
 // run.stop_at_terminal feeds the analysis' own detector with every sample: the run ends at the
 // first sample where the criterion holds, and the analysis of the written series (the same
 // detector on the same numbers, read back at round-trip precision) finds it at exactly that time.
