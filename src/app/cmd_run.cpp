@@ -72,6 +72,7 @@ struct RunOptions {
   bool quiet = false, verbose = false;
   bool dry_run = false;     ///< --dry-run: print the plan and stop
   std::string restart_dir;  ///< --restart DIR (app/run_checkpoints.hpp)
+  bool overwrite = false;   ///< --overwrite: replace another run's results in the directory
 };
 
 void check_flags(const RunOptions& options) {
@@ -79,15 +80,30 @@ void check_flags(const RunOptions& options) {
   if (options.quiet && options.verbose) throw InputError("--quiet and --verbose: choose one");
   if (options.dry_run && !options.restart_dir.empty())
     throw InputError("--dry-run: plans a case file, not a continued run; leave out --restart");
+  if (options.overwrite && !options.restart_dir.empty())
+    throw InputError("--overwrite and --restart exclude each other: a restart continues the run in its directory");
   if (options.max_memory_given && !(std::isfinite(options.max_memory_gib) && options.max_memory_gib > 0.0))
     throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
 }
 
 // The earlier run's files in DIR that this run replaces or removes, all recognised as settle's
 // (app/earlier_run.hpp); read-only, so that the preflight can refuse before anything changes.
-EarlierRun survey_run_directory(const fs::path& dir, bool restarted, const io::CaseValues& values) {
+// A fresh run refuses a directory holding another run's results unless --overwrite: the two runs'
+// files would mix (an older run's vtk/ and plots/ beside the new series).
+EarlierRun survey_run_directory(const fs::path& dir, bool restarted, bool overwrite, const io::CaseValues& values) {
   if (restarted) return survey_restarted_run(dir);
-  return survey_earlier_run(dir, values.has("particle.file") ? mesh_copy_name(values.string("particle.file")) : "");
+  EarlierRun earlier =
+      survey_earlier_run(dir, values.has("particle.file") ? mesh_copy_name(values.string("particle.file")) : "");
+  if (!overwrite && !earlier.results.empty()) {
+    refuse_if_live_run(dir);  // the clearer reason when a live run writes them
+    std::string names;
+    for (const std::string& name : earlier.results) names += (names.empty() ? "" : ", ") + name;
+    throw InputError(fmt::format(
+        "-o {}: holds the results of another run ({}); give --overwrite to replace them (settle removes only the "
+        "files it wrote there), choose another -o directory, or continue that run with --restart {}",
+        dir.string(), names, dir.string()));
+  }
+  return earlier;
 }
 
 // Without -o the results go to runs/<case name>, the case file's name without its extension:
@@ -104,14 +120,26 @@ void check_results_folder_name(const std::string& name, const fs::path& case_pat
 // Called only after every check passed and the grid is allocated (file comment).
 // Creates the directory and takes its lock before anything in it changes; the survey is made
 // again under the lock (another process may have written DIR since the preflight's).
-std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir, bool restarted,
+std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir, bool restarted, bool overwrite,
                                                            const io::CaseValues& values) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
   auto lock = std::make_unique<RunDirectoryLock>(dir);
-  remove_earlier_run(survey_run_directory(dir, restarted, values));
+  remove_earlier_run(survey_run_directory(dir, restarted, overwrite, values));
   return lock;
+}
+
+// DIR/run.log, the console's lines (app/console.hpp): appended to by a restart, new otherwise (an
+// earlier run's log was removed with its results). nullptr when stderr writes that file already
+// (settle study) or it cannot be opened (the run goes on: its log is a convenience; the warning says so).
+std::FILE* open_run_log(const fs::path& dir, bool restarted) {
+  const fs::path log = dir / kRunLogFileName;
+  if (is_standard_error(log)) return nullptr;
+  std::FILE* file = std::fopen(log.c_str(), restarted ? "a" : "w");
+  if (file == nullptr)
+    write_stderr(fmt::format("settle run: warning: cannot write {}; the run goes on without it\n", log.string()));
+  return file;
 }
 
 // The run directory holds everything needed to read it again (settle analyze, a later restart):
@@ -490,7 +518,7 @@ void run_case(const RunOptions& options) {
     console.warning(*outlook->warning);
     warnings.push_back(*outlook->warning);
   }
-  survey_run_directory(dir, restart.has_value(), values);  // refuses before anything is touched
+  survey_run_directory(dir, restart.has_value(), options.overwrite, values);  // refuses before anything is touched
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
   if (outlook) console.info(fmt::format("{}: {}", name, outlook->line));
   if (options.dry_run) {
@@ -522,7 +550,8 @@ void run_case(const RunOptions& options) {
   std::exception_ptr failed;
   if (lead) {
     try {
-      lock = prepare_output_directory(dir, restart.has_value(), values);
+      lock = prepare_output_directory(dir, restart.has_value(), options.overwrite, values);
+      console.attach_log(open_run_log(dir, restart.has_value()));
       if (restart) {
         resolved_case = restart->resolved_case();
         inputs = restart->inputs();
@@ -575,9 +604,12 @@ void run_case(const RunOptions& options) {
                              restart ? restart->series() : SeriesChecksum{});
   callbacks.checkpoint_interval_si = values.real("run.checkpoint_interval");
   callbacks.checkpoint_wall_interval_s = values.real("run.checkpoint_wall_interval");
+  std::int64_t last_checkpoint_step = -1;
   callbacks.checkpoint_due = [&](const coupling::RunStart& loop) {
     checkpoints.write(sim, loop, vtk ? vtk->progress() : VtkProgress{});
+    last_checkpoint_step = loop.step;
   };
+  callbacks.checkpoint_at_end = true;
   const InterruptSignals signals;
   callbacks.interrupted = [&signals] { return signals.raised(); };
   if (restart)
@@ -587,18 +619,28 @@ void run_case(const RunOptions& options) {
   try {
     result = coupling::run(sim, callbacks, restart ? restart->take_loop_state() : coupling::RunStart{},
                            console.progress_interval_s());
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
     console.warning(
         fmt::format("the run failed after {} steps; {} holds the rows written until then, and no "
                     "summary.json was written",
                     sim.steps(), (dir / "timeseries.csv").string()));
+    console.log_only(fmt::format("error: {}", e.what()));  // main() prints it on stderr
     throw;
   }
-  if (result.stop_reason == "interrupted")
-    throw interrupted_error(signals.signal_number_seen_by_any(sim.communicator()), result, dir, checkpoints.file());
+  if (result.stop_reason == "interrupted") {
+    const RunInterrupted error =
+        interrupted_error(signals.signal_number_seen_by_any(sim.communicator()), result, dir, checkpoints.file());
+    console.log_only(error.what());  // main() prints it on stderr
+    throw error;
+  }
   if (!lead) return;
   const std::string result_text = write_summary(values, sim, result, warnings, dir, console);
   report_end(console, sim, result, result_text, dir);
+  if (last_checkpoint_step == result.steps)
+    console.info(
+        fmt::format("{}: checkpoint at the end, t = {:.6g} s ({}): settle run --restart {} --set "
+                    "run.end_time=T continues from there",
+                    name, result.simulated_time_si, checkpoints.file().string(), dir.string()));
 }
 
 }  // namespace
@@ -608,6 +650,9 @@ void add_run_command(CLI::App& app) {
   CLI::App* run = app.add_subcommand("run", "Run a case (without CASE: the built-in default case)");
   CLI::Option* case_file = run->add_option("case", options->case_file, "case file (TOML, SI units)");
   run->add_option("-o,--output", options->output_dir, "output directory (default ./runs/<case name>)");
+  run->add_flag("--overwrite", options->overwrite,
+                "replace another run's results in the output directory (only the files settle wrote are removed); "
+                "without it such a directory is refused");
   run->add_option("--set", options->overrides, "override a case key, e.g. --set run.end_time=0.1 (repeatable)")
       ->take_all()
       ->allow_extra_args(false);

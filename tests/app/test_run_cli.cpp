@@ -238,6 +238,78 @@ TEST(RunCli, ACaseWithoutTheParticlesDensityIsRefused) {
   EXPECT_NE(r.err.find("particle.density: required (kg/m^3;"), std::string::npos) << r.err;
 }
 
+// A rerun into a folder that holds another run's results is refused (status 2, nothing changed):
+// the two runs' files would mix (the earlier run's vtk/ and plots/ beside the new series). With
+// --overwrite the earlier run's files go, settle's only: a file of the user's stays.
+TEST(RunCli, ARerunIntoAnotherRunsFolderIsRefusedUnlessOverwrite) {
+  const fs::path dir = scratch("rerun");
+  const std::string run = "-o " + dir.string() + " --set run.end_time=0.0025 --threads 1";
+  ASSERT_EQ(run_settle(run + " --set run.vtk_interval=0.0025").status, 0);
+  ASSERT_TRUE(fs::exists(dir / "vtk" / "fluid.pvd"));
+  fs::create_directories(dir / "plots");
+  std::ofstream(dir / "plots" / "velocity.png") << "\x89PNG\r\n\x1a\n(a figure)";
+  std::ofstream(dir / "notes.txt") << "the user's";
+  const std::string summary_before = read_text(dir / "summary.json");
+
+  const Result refused = run_settle(run);
+  EXPECT_EQ(refused.status, 2) << refused.err;
+  EXPECT_NE(refused.err.find("holds the results of another run (summary.json, timeseries.csv, case.resolved.toml, "),
+            std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find("give --overwrite to replace them"), std::string::npos) << refused.err;
+  EXPECT_EQ(read_text(dir / "summary.json"), summary_before);
+  EXPECT_TRUE(fs::exists(dir / "vtk" / "fluid.pvd"));
+
+  const Result replaced = run_settle(run + " --overwrite");
+  ASSERT_EQ(replaced.status, 0) << replaced.err;
+  EXPECT_FALSE(fs::exists(dir / "vtk"));
+  EXPECT_FALSE(fs::exists(dir / "plots"));
+  EXPECT_EQ(read_text(dir / "notes.txt"), "the user's");
+  // The log is the new run's alone.
+  const std::string log = read_text(dir / "run.log");
+  EXPECT_EQ(log.find("fluid: rho_f"), log.rfind("fluid: rho_f")) << log;
+  fs::remove_all(dir);
+}
+
+// Every run folder holds run.log, the console's lines at the default verbosity whatever the
+// console shows (here --quiet: warnings only on stderr), among them the result line.
+TEST(RunCli, EveryRunFolderHoldsItsLog) {
+  const fs::path dir = scratch("log");
+  const Result r = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("fluid: rho_f"), std::string::npos) << r.err;
+  const std::string log = read_text(dir / "run.log");
+  EXPECT_EQ(log.rfind("settle run: ", 0), 0u) << log;
+  EXPECT_NE(log.find("fluid: rho_f = 998.2 kg/m^3"), std::string::npos) << log;
+  EXPECT_NE(log.find("preflight passed"), std::string::npos) << log;
+  EXPECT_NE(log.find("not terminal: mean velocity along g"), std::string::npos) << log;
+  fs::remove_all(dir);
+}
+
+// A finished run ends with a checkpoint, so that it extends from its end: run to 2.5 ms, then
+// --restart --set run.end_time=5 ms, gives the time series of a run to 5 ms byte for byte (one
+// thread: every sum in a fixed order; the restart cuts the end's extra row off again).
+TEST(RunCli, AFinishedRunExtendsFromItsEndAsIfItHadRunOn) {
+  const fs::path whole = scratch("extend_whole"), split = scratch("extend_split");
+  ASSERT_EQ(run_settle("-o " + whole.string() + " --set run.end_time=0.005 --threads 1").status, 0);
+  const Result first = run_settle("-o " + split.string() + " --set run.end_time=0.0025 --threads 1");
+  ASSERT_EQ(first.status, 0) << first.err;
+  EXPECT_NE(first.err.find("checkpoint at the end, t = "), std::string::npos) << first.err;
+  ASSERT_TRUE(fs::exists(split / "checkpoint.bin"));
+  const Result extended = run_settle("--restart " + split.string() + " --set run.end_time=0.005 --threads 1");
+  ASSERT_EQ(extended.status, 0) << extended.err;
+  EXPECT_NE(extended.err.find("continuing from " + (split / "checkpoint.bin").string() + " at t = 0.0025"),
+            std::string::npos)
+      << extended.err;
+  EXPECT_EQ(read_text(split / "timeseries.csv"), read_text(whole / "timeseries.csv"));
+  // The log holds both segments.
+  const std::string log = read_text(split / "run.log");
+  EXPECT_NE(log.find("checkpoint at the end"), std::string::npos) << log;
+  EXPECT_NE(log.find("continuing from"), std::string::npos) << log;
+  fs::remove_all(whole);
+  fs::remove_all(split);
+}
+
 // run.stop_at_terminal feeds the analysis' own detector with every sample: the run ends at the
 // first sample where the criterion holds, and the analysis of the written series (the same
 // detector on the same numbers, read back at round-trip precision) finds it at exactly that time.
@@ -276,7 +348,7 @@ TEST(RunCli, QuietPrintsNothingButWarnings) {
   // Warnings only (this short run is warned that it cannot reach its terminal state).
   std::istringstream lines(quiet.err);
   for (std::string line; std::getline(lines, line);) EXPECT_EQ(line.rfind("settle run: warning: ", 0), 0u) << line;
-  const Result normal = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1");
+  const Result normal = run_settle("-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 --overwrite");
   ASSERT_EQ(normal.status, 0) << normal.err;
   for (const char* step : {"body_predictor", "body_mapping", "refill", "fluid", "hydrodynamic_force", "body_corrector"})
     EXPECT_NE(normal.err.find(step), std::string::npos) << step;
@@ -312,8 +384,9 @@ TEST(RunCli, AMomentumExchangeRunNamesNoMarkersButItsDeprecatedKeys) {
   summary["timing"].erase("forcing");
   EXPECT_EQ(lower_case(summary.dump()).find("marker"), std::string::npos) << summary.dump(2);
 
-  const Result immersed = run_settle(
-      "-o " + dir.string() + " --set run.end_time=0.0025 --threads 1 --set 'numerics.coupling=\"immersed_boundary\"'");
+  const Result immersed =
+      run_settle("-o " + dir.string() +
+                 " --set run.end_time=0.0025 --threads 1 --overwrite --set 'numerics.coupling=\"immersed_boundary\"'");
   ASSERT_EQ(immersed.status, 0) << immersed.err;
   EXPECT_NE(immersed.err.find(" markers, "), std::string::npos) << immersed.err;
   const auto ib = nlohmann::json::parse(read_text(dir / "summary.json"));
@@ -359,7 +432,7 @@ TEST(RunCli, ParticleInsideTheContactDistanceIsRefused) {
   const fs::path dir = scratch("near_floor_ok");
   EXPECT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor + " --set contact.distance_cells=2.5").status, 0);
   EXPECT_EQ(run_settle("-o " + dir.string() + " " + kNearFloor +
-                       " --set contact.distance_cells=5 --set contact.enabled=false")
+                       " --set contact.distance_cells=5 --set contact.enabled=false --overwrite")
                 .status,
             0);
   fs::remove_all(dir);
@@ -544,7 +617,8 @@ TEST(RunCli, ASecondRunIntoALiveRunsDirectoryIsRefused) {
   int status = 0;
   ASSERT_EQ(::waitpid(first, &status, 0), first);
   const auto third = settle::test::run_settle(
-      "run", towed + " -o " + dir.string() + " -q --set numerics.cells_per_diameter=5 --set run.end_time=0.01");
+      "run",
+      towed + " -o " + dir.string() + " -q --set numerics.cells_per_diameter=5 --set run.end_time=0.01 --overwrite");
   EXPECT_EQ(third.status, 0) << third.err;
 }
 
