@@ -36,6 +36,8 @@ LABELS = {
     "torque_coefficient": "$C_T$",
     "terminal_velocity_m_s": "terminal speed (m/s)",
     "terminal_vertical_velocity_m_s": "settling velocity (m/s)",
+    "late_mean_velocity_m_s": "late mean speed, not terminal (m/s)",
+    "late_mean_vertical_velocity_m_s": "late mean settling velocity (m/s)",
     "path_angle_deg": "path angle (deg)",
     "tilt_mean_deg": "mean tilt (deg)",
 }

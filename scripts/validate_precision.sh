@@ -68,7 +68,7 @@ for item in sys.argv[1:]:
     largest = max(max(ud.values()), max(uf.values()))
     walls = " / ".join(open(f"{r}/wall_seconds.txt").read().strip() for r in (run_d, run_f))
     rows = [
-        ("terminal (or last) speed, m/s", sd["terminal_velocity"], sf["terminal_velocity"]),
+        ("late mean speed (terminal when reached), m/s", sd["late_mean_velocity"], sf["late_mean_velocity"]),
         ("drag coefficient", sd["drag_coefficient"], sf["drag_coefficient"]),
         ("largest settling speed, m/s", max(ud.values()), max(uf.values())),
     ]

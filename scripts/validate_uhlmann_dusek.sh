@@ -51,10 +51,11 @@ for item in sys.argv[1:]:
     r = ref[c]
     s = json.load(open(f"{run}/summary.json"))
     ga, re = s["galileo"], s["reynolds"]
-    # Re / Ga = |U| / u_g, so u_g = |U| Ga / Re.
-    ug = s["terminal_velocity"] * ga / re
+    # Re / Ga = |U| / u_g, so u_g = |U| Ga / Re. The late means are the terminal velocities when
+    # the terminal state was reached (terminal_velocity is null otherwise).
+    ug = s["late_mean_velocity"] * ga / re
     d = s["equivalent_diameter"]
-    uv = s["terminal_vertical_velocity"] / ug
+    uv = s["late_mean_vertical_velocity"] / ug
     uh = s["lateral"]["drift_velocity"] / ug
     angle = s["lateral"]["path_angle_deg"]
     uv_ref = r.get("u_v_over_ug_large_domain", r.get("mean_u_v_over_ug_large_domain"))

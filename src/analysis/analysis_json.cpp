@@ -47,14 +47,21 @@ nlohmann::ordered_json peak_json(const SpectralPeak& peak, const std::optional<d
 nlohmann::ordered_json to_json(const Analysis& a) {
   using json = nlohmann::ordered_json;
   json j;
-  j["terminal_velocity"] = a.terminal_speed_si;
-  j["terminal_vertical_velocity"] = a.vertical_velocity_si;
+  // A velocity is called terminal only when the terminal state was detected; the mean over the
+  // averaging window (terminal window or second half) is always given as late_mean_*.
+  const bool reached = a.terminal.reached;
+  j["terminal_velocity"] = reached ? json(a.terminal_speed_si) : json(nullptr);
+  j["terminal_vertical_velocity"] = reached ? json(a.vertical_velocity_si) : json(nullptr);
+  j["late_mean_velocity"] = a.terminal_speed_si;
+  j["late_mean_vertical_velocity"] = a.vertical_velocity_si;
+  j["late_velocity_trend"] = a.vertical_velocity_trend_per_s;
   j["reynolds"] = a.reynolds;
   j["drag_coefficient"] = finite_or_null(a.drag_coefficient);
   j["galileo"] = a.galileo;
   j["regime"] = regime_name(a.regime.regime);
   j["regime_reason"] = a.regime.reason;
-  j["terminal_velocity_vector"] = vector_json(a.mean_velocity_si);
+  j["terminal_velocity_vector"] = reached ? vector_json(a.mean_velocity_si) : json(nullptr);
+  j["late_mean_velocity_vector"] = vector_json(a.mean_velocity_si);
   j["archimedes"] = a.archimedes;
   j["stokes_number"] = a.stokes_number;
   j["density_ratio"] = a.density_ratio;

@@ -161,6 +161,26 @@ VerticalFrame vertical_frame(const Eigen::Vector3d& gravity_si) {
   return {gravity_si / g};
 }
 
+// The least-squares slope of the velocity along g over the window, over that velocity's mean
+// (1/s); 0 for a single sample or a zero mean.
+double relative_trend_per_s(const WindowSeries& w, const VerticalFrame& frame, double mean_vertical_si) {
+  const std::size_t n = w.t.size();
+  if (n < 2 || mean_vertical_si == 0.0) return 0.0;
+  double t_mean = 0.0, u_mean = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    t_mean += w.t[i];
+    u_mean += w.velocity[i].dot(frame.down);
+  }
+  t_mean /= static_cast<double>(n);
+  u_mean /= static_cast<double>(n);
+  double covariance = 0.0, variance = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    covariance += (w.t[i] - t_mean) * (w.velocity[i].dot(frame.down) - u_mean);
+    variance += (w.t[i] - t_mean) * (w.t[i] - t_mean);
+  }
+  return variance > 0.0 ? covariance / variance / mean_vertical_si : 0.0;
+}
+
 // ------------------------------------------------------------------ groups of observables
 void velocity_and_path(const WindowSeries& w, const VerticalFrame& frame, Analysis& a) {
   a.mean_velocity_si = time_mean(w.t, w.velocity);
@@ -171,6 +191,7 @@ void velocity_and_path(const WindowSeries& w, const VerticalFrame& frame, Analys
   a.path_angle_deg = std::atan2(a.lateral_drift_speed_si, std::abs(a.vertical_velocity_si)) * kDegreesPerRadian;
   const Eigen::Vector3d moved = w.position.back() - w.position.front();
   a.lateral_displacement_si = (moved - moved.dot(frame.down) * frame.down).norm();
+  a.vertical_velocity_trend_per_s = relative_trend_per_s(w, frame, a.vertical_velocity_si);
 }
 
 // The horizontal axes azimuths are measured in: x projected on the horizontal plane (y when g is
@@ -685,6 +706,27 @@ Analysis analyse(const SettlingSeries& series, const ParticleProperties& propert
   if (is_periodic(a.regime.regime)) window_warnings(a);
   sampling_warning(series, a);
   return a;
+}
+
+std::string velocity_statement(const Analysis& a) {
+  if (a.terminal.reached)
+    return fmt::format("terminal velocity along g {:.5g} m/s (|U| = {:.5g} m/s), reached at t = {:.4g} s",
+                       a.vertical_velocity_si, a.terminal_speed_si, a.terminal.terminal_time_si);
+  // The change across the averaging window, what the samples show (no extrapolation past them).
+  const double per_si = a.window_end_si - a.window_start_si;
+  const double change = a.vertical_velocity_trend_per_s * per_si;
+  const std::string criterion =
+      a.criteria.window_si() > 0.0
+          ? fmt::format(" (terminal means a change below {:g}% per window of {:g} response times)",
+                        100.0 * a.criteria.tolerance, a.criteria.window_response_times)
+          : std::string();
+  const std::string mean =
+      fmt::format("not terminal: mean velocity along g over the second half (t = {:.4g} .. {:.4g} s) {:.5g} m/s",
+                  a.window_start_si, a.window_end_si, a.vertical_velocity_si);
+  if (a.window_samples < 3)
+    return mean + fmt::format(" ({} samples: too few for a trend){}", a.window_samples, criterion);
+  return fmt::format("{}, {} {:.3g}% over these {:.3g} s{}", mean, change >= 0.0 ? "speeding up" : "slowing down",
+                     100.0 * std::abs(change), per_si, criterion);
 }
 
 }  // namespace settle::analysis

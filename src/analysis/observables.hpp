@@ -112,8 +112,12 @@ struct Analysis {
 
   // Velocity and path.
   Eigen::Vector3d mean_velocity_si = Eigen::Vector3d::Zero();
-  double terminal_speed_si = 0.0;        ///< |mean velocity|
-  double vertical_velocity_si = 0.0;     ///< mean velocity along g (> 0 sinking)
+  double terminal_speed_si = 0.0;     ///< |mean velocity|
+  double vertical_velocity_si = 0.0;  ///< mean velocity along g (> 0 sinking)
+  /// How fast the velocity along g still changes over the window: the slope of the least-squares
+  /// line through it over its mean, 1/s (0 when the mean is 0). A statement about a window that
+  /// is not terminal ("rising 8% per window"); the terminal test itself compares window means.
+  double vertical_velocity_trend_per_s = 0.0;
   double lateral_drift_speed_si = 0.0;   ///< |mean horizontal velocity|
   double path_angle_deg = 0.0;           ///< mean velocity from the vertical line, [0, 90]
   double lateral_displacement_si = 0.0;  ///< horizontal distance moved over the window
@@ -193,6 +197,12 @@ struct Analysis {
   RegimeResult regime;
   std::vector<std::string> warnings;
 };
+
+/// One line on the velocity the analysis found, that calls it terminal only when the terminal
+/// state was detected: "terminal velocity along g 0.1234 m/s (|U| = ...), reached at t = ..." or
+/// "not terminal: mean velocity along g over the second half (t = a .. b s) 0.00646 m/s, speeding
+/// up 8% over these 0.2 s (terminal means a change below 1% per window of 5 response times)".
+std::string velocity_statement(const Analysis& a);
 
 /// The analysis of a free body's series (at least 2 samples, increasing t). settle::InputError
 /// naming fluid.gravity when gravity is zero.

@@ -84,7 +84,7 @@ void TerminalStateDetector::add(double t_si, const Eigen::Vector3d& velocity_si)
 void TerminalStateDetector::check(double t_si) {
   const double w = criteria_.window_si();
   // The series must cover both windows completely.
-  if (t_si - *first_t_ < 2.0 * w) return;
+  if (t_si - *first_t_ < criteria_.earliest_detection_si()) return;
   const WindowMean previous = hann_window_mean(samples_, t_si - 2.0 * w, t_si - w);
   const WindowMean current = hann_window_mean(samples_, t_si - w, t_si);
   state_.samples_per_window = std::max(state_.samples_per_window, std::min(previous.samples, current.samples));

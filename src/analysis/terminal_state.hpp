@@ -63,6 +63,10 @@ struct TerminalCriteria {
   std::size_t min_samples_per_window = 8;
 
   [[nodiscard]] double window_si() const { return window_response_times * response_time_si; }
+  /// The criterion compares two whole windows, so it cannot hold before this time after the
+  /// series' first sample (the release of a held body): 2W. An approach slower than e^(-t/tau_p)
+  /// is detected later.
+  [[nodiscard]] double earliest_detection_si() const { return 2.0 * window_si(); }
   /// std::invalid_argument naming the parameter when a value is out of range.
   void validate() const;
 };

@@ -2,7 +2,8 @@
 // recomputes the analysis of a finished free-settling run from its files
 // (timeseries.csv, case.resolved.toml, summary.json), merges the analysis fields into
 // summary.json (every other field kept; temporary file and rename) and prints a short report,
-// or the analysis fields as JSON with --json. Definitions: docs/analysis.md.
+// or the analysis fields as JSON with --json. A run without summary.json (failed, stopped) is
+// analysed as far as its series goes, and nothing is written. Definitions: docs/analysis.md.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -132,6 +133,7 @@ void print_report(const fs::path& dir, const analysis::Analysis& a, std::ostream
                      a.window_samples, a.averaged_over_terminal_window ? "terminal window" : "second half of the run");
   out << fmt::format("  velocity         |U| = {:.5g} m/s, along g {:.5g} m/s, path {:.3g} deg from vertical\n",
                      a.terminal_speed_si, a.vertical_velocity_si, a.path_angle_deg);
+  out << fmt::format("  result           {}\n", analysis::velocity_statement(a));
   if (a.drift_azimuth_deg)
     out << fmt::format(
         "  drift            azimuth {:.4g} deg (from x, counter-clockwise from above), turning {} deg/s\n",
@@ -168,15 +170,23 @@ void analyze(const AnalyzeOptions& options) {
   const fs::path dir = options.run_dir;
   if (!fs::is_directory(dir)) throw InputError(fmt::format("{}: not a directory", dir.string()));
   // Everything is read and computed before summary.json is touched: an error writes nothing.
-  const fs::path summary_path = required_file(dir, "summary.json");
   const fs::path series_path = required_file(dir, "timeseries.csv");
-  json summary = read_summary(summary_path);
+  // A run that failed or was stopped has no summary.json (its completion mark): its rows are
+  // analysed as they are, and no summary.json is written, which would mark the run finished.
+  const fs::path summary_path = dir / "summary.json";
+  const bool finished = fs::exists(summary_path);
+  if (!finished)
+    std::cerr << fmt::format(
+        "settle analyze: warning: {}: missing: the run did not finish (or still runs); its time series is analysed "
+        "as far as it goes, and no summary.json is written\n",
+        summary_path.string());
+  json summary = finished ? read_summary(required_file(dir, "summary.json")) : json::object();
   const coupling::SimulationSetup setup = run_setup(dir, summary);
   const analysis::Analysis result = analyse_timeseries(setup, series_path, analysis_opts);
 
   const json fields = analysis_summary_fields(setup, result);
   for (const auto& [key, value] : fields.items()) summary[key] = value;
-  write_file_atomically(summary_path, summary.dump(2) + "\n");
+  if (finished) write_file_atomically(summary_path, summary.dump(2) + "\n");
   if (options.json_output)
     std::cout << fields.dump(2) << "\n";
   else

@@ -125,7 +125,7 @@ Problem problem_from_case(const fs::path& path, analysis::Orientation orientatio
     Problem p;
     p.fluid_density_si = values.real("fluid.density");
     p.dynamic_viscosity_si = values.real("fluid.dynamic_viscosity");
-    const double density = values.real("particle.density");
+    const double density = io::particle_density_si(values);
     if (density == p.fluid_density_si) {
       throw InputError(fmt::format("particle.density: must differ from fluid.density ({}), else nothing settles",
                                    p.fluid_density_si));

@@ -46,6 +46,7 @@
 #include "coupling/time_control.hpp"
 #include "io/case.hpp"
 #include "io/output_files.hpp"
+#include "io/plausibility.hpp"
 #include "io/preflight.hpp"
 #include "io/pvd.hpp"
 #include "io/vtk.hpp"
@@ -71,6 +72,7 @@ struct RunOptions {
   bool quiet = false, verbose = false;
   bool dry_run = false;     ///< --dry-run: print the plan and stop
   std::string restart_dir;  ///< --restart DIR (app/run_checkpoints.hpp)
+  bool overwrite = false;   ///< --overwrite: replace another run's results in the directory
 };
 
 void check_flags(const RunOptions& options) {
@@ -78,15 +80,30 @@ void check_flags(const RunOptions& options) {
   if (options.quiet && options.verbose) throw InputError("--quiet and --verbose: choose one");
   if (options.dry_run && !options.restart_dir.empty())
     throw InputError("--dry-run: plans a case file, not a continued run; leave out --restart");
+  if (options.overwrite && !options.restart_dir.empty())
+    throw InputError("--overwrite and --restart exclude each other: a restart continues the run in its directory");
   if (options.max_memory_given && !(std::isfinite(options.max_memory_gib) && options.max_memory_gib > 0.0))
     throw InputError(fmt::format("--max-memory: must be a finite number of GiB > 0, got {}", options.max_memory_gib));
 }
 
 // The earlier run's files in DIR that this run replaces or removes, all recognised as settle's
 // (app/earlier_run.hpp); read-only, so that the preflight can refuse before anything changes.
-EarlierRun survey_run_directory(const fs::path& dir, bool restarted, const io::CaseValues& values) {
+// A fresh run refuses a directory holding another run's results unless --overwrite: the two runs'
+// files would mix (an older run's vtk/ and plots/ beside the new series).
+EarlierRun survey_run_directory(const fs::path& dir, bool restarted, bool overwrite, const io::CaseValues& values) {
   if (restarted) return survey_restarted_run(dir);
-  return survey_earlier_run(dir, values.has("particle.file") ? mesh_copy_name(values.string("particle.file")) : "");
+  EarlierRun earlier =
+      survey_earlier_run(dir, values.has("particle.file") ? mesh_copy_name(values.string("particle.file")) : "");
+  if (!overwrite && !earlier.results.empty()) {
+    refuse_if_live_run(dir);  // the clearer reason when a live run writes them
+    std::string names;
+    for (const std::string& name : earlier.results) names += (names.empty() ? "" : ", ") + name;
+    throw InputError(fmt::format(
+        "-o {}: holds the results of another run ({}); give --overwrite to replace them (settle removes only the "
+        "files it wrote there), choose another -o directory, or continue that run with --restart {}",
+        dir.string(), names, dir.string()));
+  }
+  return earlier;
 }
 
 // Without -o the results go to runs/<case name>, the case file's name without its extension:
@@ -103,14 +120,26 @@ void check_results_folder_name(const std::string& name, const fs::path& case_pat
 // Called only after every check passed and the grid is allocated (file comment).
 // Creates the directory and takes its lock before anything in it changes; the survey is made
 // again under the lock (another process may have written DIR since the preflight's).
-std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir, bool restarted,
+std::unique_ptr<RunDirectoryLock> prepare_output_directory(const fs::path& dir, bool restarted, bool overwrite,
                                                            const io::CaseValues& values) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError(fmt::format("-o: cannot create the directory {}: {}", dir.string(), error.message()));
   auto lock = std::make_unique<RunDirectoryLock>(dir);
-  remove_earlier_run(survey_run_directory(dir, restarted, values));
+  remove_earlier_run(survey_run_directory(dir, restarted, overwrite, values));
   return lock;
+}
+
+// DIR/run.log, the console's lines (app/console.hpp): appended to by a restart, new otherwise (an
+// earlier run's log was removed with its results). nullptr when stderr writes that file already
+// (settle study) or it cannot be opened (the run goes on: its log is a convenience; the warning says so).
+std::FILE* open_run_log(const fs::path& dir, bool restarted) {
+  const fs::path log = dir / kRunLogFileName;
+  if (is_standard_error(log)) return nullptr;
+  std::FILE* file = std::fopen(log.c_str(), restarted ? "a" : "w");
+  if (file == nullptr)
+    write_stderr(fmt::format("settle run: warning: cannot write {}; the run goes on without it\n", log.string()));
+  return file;
 }
 
 // The run directory holds everything needed to read it again (settle analyze, a later restart):
@@ -246,9 +275,19 @@ void add_lift_spectrum(nlohmann::json& j, const coupling::Simulation& sim, const
   j["lift_spectral_concentration"] = peak.found ? nlohmann::json(peak.concentration) : nlohmann::json(nullptr);
 }
 
-void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary) {
-  j["terminal_velocity"] = summary.terminal_velocity_si;
-  j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+void add_run_averages(nlohmann::json& j, const coupling::RunSummary& summary, bool free_body) {
+  if (free_body) {
+    // No terminal state was detected (the analysis was not made): the second half's mean is
+    // given for what it is, and nothing is called terminal.
+    j["terminal_velocity"] = nullptr;
+    j["terminal_vertical_velocity"] = nullptr;
+    j["late_mean_velocity"] = summary.terminal_velocity_si;
+    j["late_mean_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+  } else {
+    // The imposed speed of a towed body (0 for a fixed one), under its former key.
+    j["terminal_velocity"] = summary.terminal_velocity_si;
+    j["terminal_vertical_velocity"] = summary.terminal_vertical_velocity_si;
+  }
   j["reynolds"] = summary.reynolds;
   j["drag_coefficient"] = summary.drag_coefficient;
   j["galileo"] = summary.galileo;
@@ -357,38 +396,48 @@ std::optional<analysis::TerminalStateDetector> terminal_detector(const io::CaseV
 // correlations) on the series just written; true when it was added. The run itself succeeded: an
 // analysis that cannot be made (too few samples, say) becomes a warning in summary.json rather
 // than a failed run.
-bool add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim, const fs::path& timeseries,
-                  Console& console) {
-  if (sim.body().motion_kind() != body::MotionKind::free) return false;
+std::optional<analysis::Analysis> add_analysis(nlohmann::json& summary_document, const coupling::Simulation& sim,
+                                               const fs::path& timeseries, Console& console) {
+  if (sim.body().motion_kind() != body::MotionKind::free) return std::nullopt;
   try {
-    const analysis::Analysis result = analyse_timeseries(sim.setup(), timeseries, analysis::AnalysisOptions{});
+    analysis::Analysis result = analyse_timeseries(sim.setup(), timeseries, analysis::AnalysisOptions{});
     const nlohmann::ordered_json fields = analysis_summary_fields(sim.setup(), result);
     for (const auto& [key, value] : fields.items()) summary_document[key] = value;
-    return true;
+    return result;
   } catch (const std::exception& e) {
     const std::string warning =
         fmt::format("analysis not made: {} (settle analyze can retry with other options)", e.what());
     console.warning(warning);
     summary_document["warnings"].push_back(warning);
-    return false;
+    return std::nullopt;
   }
 }
 
+// The run's result in one line, calling a velocity terminal only when the analysis detected the
+// terminal state (analysis::velocity_statement).
+std::string result_line(const nlohmann::json& summary_document, const std::optional<analysis::Analysis>& analysed,
+                        bool free_body) {
+  if (!summary_document.contains("reynolds")) return {};
+  // No drag coefficient (null) for a body in wall contact over the averaging window.
+  const nlohmann::json& drag = summary_document["drag_coefficient"];
+  const std::string groups =
+      fmt::format("Re = {:.4g}, C_D = {}, regime {}", summary_document["reynolds"].get<double>(),
+                  drag.is_number() ? fmt::format("{:.4g}", drag.get<double>()) : "none (wall contact)",
+                  summary_document["regime"].get<std::string>());
+  if (analysed) return fmt::format("{}; {}", analysis::velocity_statement(*analysed), groups);
+  if (free_body)
+    return fmt::format("not terminal (not analysed): mean velocity along g over the second half {:.5g} m/s; {}",
+                       summary_document["late_mean_vertical_velocity"].get<double>(), groups);
+  return groups;
+}
+
 void report_end(Console& console, const coupling::Simulation& sim, const coupling::RunResult& result,
-                const nlohmann::json& summary_document, const fs::path& dir) {
+                const std::string& result_text, const fs::path& dir) {
   console.info("wall time by sub-step of the coupled step:");
   for (const auto& [name, seconds] : sim.timers().entries())
     console.info(fmt::format("  {:<20} {:8.2f} s  {:5.1f}%", name, seconds,
                              result.wall_seconds > 0.0 ? 100.0 * seconds / result.wall_seconds : 0.0));
-  if (summary_document.contains("terminal_vertical_velocity") && summary_document.contains("regime")) {
-    // No drag coefficient (null) for a body in wall contact over the averaging window.
-    const nlohmann::json& drag = summary_document["drag_coefficient"];
-    console.info(fmt::format("settling at {:.5g} m/s, Re = {:.4g}, C_D = {}, regime {}",
-                             summary_document["terminal_vertical_velocity"].get<double>(),
-                             summary_document["reynolds"].get<double>(),
-                             drag.is_number() ? fmt::format("{:.4g}", drag.get<double>()) : "none (wall contact)",
-                             summary_document["regime"].get<std::string>()));
-  }
+  if (!result_text.empty()) console.info(result_text);
   console.info(fmt::format("{} steps in {:.1f} s ({:.1f} MLUPS), {}; results in {}", result.steps, result.wall_seconds,
                            result.mlups, result.stop_reason, dir.string()));
 }
@@ -396,19 +445,23 @@ void report_end(Console& console, const coupling::Simulation& sim, const couplin
 // summary.json, the run's completion mark (file comment): the loop's figures, the reference the
 // case names, and the results. Each result is computed once: for a free body by the analysis with
 // the correlations, otherwise (or when the analysis cannot be made) from the loop's averages.
-nlohmann::json write_summary(const io::CaseValues& values, const coupling::Simulation& sim,
-                             const coupling::RunResult& result, const std::vector<std::string>& warnings,
-                             const fs::path& dir, Console& console) {
+// Returns the run's result line for the console (result_line).
+std::string write_summary(const io::CaseValues& values, const coupling::Simulation& sim,
+                          const coupling::RunResult& result, const std::vector<std::string>& warnings,
+                          const fs::path& dir, Console& console) {
   nlohmann::json summary_document = run_json(sim, result, warnings);
   // The published case the run reproduces, for `settle plot` (a key of validation/reference-data.json).
   if (values.has("run.reference")) summary_document["reference"] = values.string("run.reference");
-  if (!add_analysis(summary_document, sim, dir / "timeseries.csv", console)) {
+  const bool free_body = sim.body().motion_kind() == body::MotionKind::free;
+  const std::optional<analysis::Analysis> analysed =
+      add_analysis(summary_document, sim, dir / "timeseries.csv", console);
+  if (!analysed) {
     const coupling::RunSummary averages = coupling::summarise(sim, result);
-    add_run_averages(summary_document, averages);
+    add_run_averages(summary_document, averages, free_body);
     add_lift_spectrum(summary_document, sim, result, averages);
   }
   write_file_atomically(dir / "summary.json", summary_document.dump(2) + "\n");
-  return summary_document;
+  return result_line(summary_document, analysed, free_body);
 }
 
 void run_case(const RunOptions& options) {
@@ -442,6 +495,12 @@ void run_case(const RunOptions& options) {
 
   coupling::SimulationSetup setup = io::simulation_setup(values, base, name);
   for (const std::string& note : setup.shape->notes()) console.info(note);  // a mesh reversed, its shells
+  console.info(fmt::format("{}: {}", name, io::physical_properties_text(setup)));
+  // Before the preflight: a unit slip would otherwise surface as a grid it refuses.
+  for (std::string& w : io::plausibility_warnings(values, setup)) {
+    console.warning(w);
+    warnings.push_back(std::move(w));
+  }
   const fs::path dir = restart                      ? restart->run_dir()
                        : options.output_dir.empty() ? fs::path("runs") / name
                                                     : fs::path(options.output_dir);
@@ -457,8 +516,14 @@ void run_case(const RunOptions& options) {
     console.warning(*advice);
     warnings.push_back(*advice);
   }
-  survey_run_directory(dir, restart.has_value(), values);  // refuses before anything is touched
+  const std::optional<TerminalOutlook> outlook = terminal_outlook(setup);
+  if (outlook && outlook->warning) {
+    console.warning(*outlook->warning);
+    warnings.push_back(*outlook->warning);
+  }
+  survey_run_directory(dir, restart.has_value(), options.overwrite, values);  // refuses before anything is touched
   console.info(fmt::format("{}: preflight passed: {}", name, report.summary()));
+  if (outlook) console.info(fmt::format("{}: {}", name, outlook->line));
   if (options.dry_run) {
     if (options.threads > 0) omp_set_num_threads(options.threads);
     if (lead) std::fputs(run_plan_text(setup, report).c_str(), stdout);
@@ -488,7 +553,8 @@ void run_case(const RunOptions& options) {
   std::exception_ptr failed;
   if (lead) {
     try {
-      lock = prepare_output_directory(dir, restart.has_value(), values);
+      lock = prepare_output_directory(dir, restart.has_value(), options.overwrite, values);
+      console.attach_log(open_run_log(dir, restart.has_value()));
       if (restart) {
         resolved_case = restart->resolved_case();
         inputs = restart->inputs();
@@ -542,9 +608,12 @@ void run_case(const RunOptions& options) {
                              restart ? restart->series() : SeriesChecksum{});
   callbacks.checkpoint_interval_si = values.real("run.checkpoint_interval");
   callbacks.checkpoint_wall_interval_s = values.real("run.checkpoint_wall_interval");
+  std::int64_t last_checkpoint_step = -1;
   callbacks.checkpoint_due = [&](const coupling::RunStart& loop) {
     checkpoints.write(sim, loop, vtk ? vtk->progress() : VtkProgress{});
+    last_checkpoint_step = loop.step;
   };
+  callbacks.checkpoint_at_end = true;
   const InterruptSignals signals;
   callbacks.interrupted = [&signals] { return signals.raised(); };
   if (restart)
@@ -554,18 +623,28 @@ void run_case(const RunOptions& options) {
   try {
     result = coupling::run(sim, callbacks, restart ? restart->take_loop_state() : coupling::RunStart{},
                            console.progress_interval_s());
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
     console.warning(
         fmt::format("the run failed after {} steps; {} holds the rows written until then, and no "
                     "summary.json was written",
                     sim.steps(), (dir / "timeseries.csv").string()));
+    console.log_only(fmt::format("error: {}", e.what()));  // main() prints it on stderr
     throw;
   }
-  if (result.stop_reason == "interrupted")
-    throw interrupted_error(signals.signal_number_seen_by_any(sim.communicator()), result, dir, checkpoints.file());
+  if (result.stop_reason == "interrupted") {
+    const RunInterrupted error =
+        interrupted_error(signals.signal_number_seen_by_any(sim.communicator()), result, dir, checkpoints.file());
+    console.log_only(error.what());  // main() prints it on stderr
+    throw error;
+  }
   if (!lead) return;
-  const nlohmann::json summary_document = write_summary(values, sim, result, warnings, dir, console);
-  report_end(console, sim, result, summary_document, dir);
+  const std::string result_text = write_summary(values, sim, result, warnings, dir, console);
+  report_end(console, sim, result, result_text, dir);
+  if (last_checkpoint_step == result.steps)
+    console.info(
+        fmt::format("{}: checkpoint at the end, t = {:.6g} s ({}): settle run --restart {} --set "
+                    "run.end_time=T continues from there",
+                    name, result.simulated_time_si, checkpoints.file().string(), dir.string()));
 }
 
 }  // namespace
@@ -575,6 +654,9 @@ void add_run_command(CLI::App& app) {
   CLI::App* run = app.add_subcommand("run", "Run a case (without CASE: the built-in default case)");
   CLI::Option* case_file = run->add_option("case", options->case_file, "case file (TOML, SI units)");
   run->add_option("-o,--output", options->output_dir, "output directory (default ./runs/<case name>)");
+  run->add_flag("--overwrite", options->overwrite,
+                "replace another run's results in the output directory (only the files settle wrote are removed); "
+                "without it such a directory is refused");
   run->add_option("--set", options->overrides, "override a case key, e.g. --set run.end_time=0.1 (repeatable)")
       ->take_all()
       ->allow_extra_args(false);

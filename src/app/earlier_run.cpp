@@ -1,5 +1,8 @@
 #include "app/earlier_run.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -144,7 +147,47 @@ bool exists_at(const fs::path& path) {
   return fs::exists(fs::symlink_status(path, error));
 }
 
+constexpr std::array<std::string_view, 6> kPlotNames{"velocity.png",    "trajectory.png", "trajectory_3d.png",
+                                                     "orientation.png", "forces.png",     "reference.png"};
+constexpr std::string_view kPngSignature = "\x89PNG\r\n\x1a\n";
+
+void survey_plots(const fs::path& dir, EarlierRun& earlier) {
+  const fs::path plots = dir / "plots";
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(plots, error);
+  if (!fs::exists(status) || !fs::is_directory(status)) return;  // a file of the user's: settle writes no plots/ file
+  for (const std::string_view name : kPlotNames) {
+    const fs::path file = plots / name;
+    if (!exists_at(file)) continue;
+    if (!file_starts_with(file, kPngSignature)) refuse(dir, file, "a PNG figure settle plot wrote");
+    earlier.files.push_back(file);
+    earlier.results.push_back("plots/" + std::string(name));
+  }
+  earlier.folders.push_back(plots);
+}
+
+void survey_log(const fs::path& dir, EarlierRun& earlier) {
+  const fs::path log = dir / kRunLogFileName;
+  if (!exists_at(log) || is_standard_error(log)) return;
+  std::error_code error;
+  const bool empty = fs::is_regular_file(fs::symlink_status(log, error)) && fs::file_size(log, error) == 0;
+  if (!empty && !file_starts_with(log, "settle run: ")) refuse(dir, log, "the log settle run wrote");
+  earlier.files.push_back(log);
+  earlier.results.emplace_back(kRunLogFileName);
+}
+
+void add_result(EarlierRun& earlier, const fs::path& file) {
+  if (exists_at(file)) earlier.results.push_back(file.filename().string());
+}
+
 }  // namespace
+
+bool is_standard_error(const fs::path& file) {
+  struct stat err {};
+  struct stat other {};
+  return ::fstat(STDERR_FILENO, &err) == 0 && ::stat(file.c_str(), &other) == 0 && err.st_dev == other.st_dev &&
+         err.st_ino == other.st_ino;
+}
 
 std::string mesh_copy_name(const fs::path& source) { return "particle_mesh" + source.extension().string(); }
 
@@ -180,6 +223,13 @@ EarlierRun survey_earlier_run(const fs::path& dir, const std::string& mesh_copy)
   if (!mesh_copy.empty() && exists_at(dir / mesh_copy) && !stl_file(dir / mesh_copy))
     refuse(dir, dir / mesh_copy, "an STL file (a run with a mesh keeps its copy under this name)");
   survey_vtk(dir, earlier);
+  for (const fs::path& file : {summary, timeseries, resolved, checkpoint}) add_result(earlier, file);
+  if (earlier.files.end() != std::find_if(earlier.files.begin(), earlier.files.end(), [](const fs::path& f) {
+        return f.parent_path().filename() == "vtk" || f.parent_path().parent_path().filename() == "vtk";
+      }))
+    earlier.results.emplace_back("vtk/");
+  survey_plots(dir, earlier);
+  survey_log(dir, earlier);
   return earlier;
 }
 

@@ -15,7 +15,12 @@
 //  - vtk/: its files of settle's names (fluid.pvd, surface.pvd, fluid_NNNNNN.vti or .pvti and its
 //    folder of pieces, surface_NNNNNN.vtp, and their .tmp) must be VTK XML; they are removed, and
 //    vtk/ when it is left empty. Files of other names in vtk/ are left alone;
-//  - the mesh copy particle_mesh.<ext>, which a run with a mesh overwrites: an STL file.
+//  - the mesh copy particle_mesh.<ext>, which a run with a mesh overwrites: an STL file;
+//  - plots/: the PNG files of settle plot's names (velocity.png, ...) with the PNG signature;
+//    removed, and plots/ when it is left empty;
+//  - run.log: the console's log, starting with "settle run: "; removed (left alone when it is the
+//    file this process's stderr writes, as under settle study, which appends a case's attempts).
+// A fresh run finds these as an earlier run's results and refuses the directory unless --overwrite.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -28,6 +33,9 @@ struct EarlierRun {
   std::vector<std::filesystem::path> files;
   std::vector<std::filesystem::path> folders;
   std::filesystem::path checkpoint;  ///< whose parts (coupling::checkpoint_parts_directory) go too
+  /// The earlier run's results found (summary.json, timeseries.csv, ..., vtk/, plots/): a fresh
+  /// run refuses the directory unless --overwrite (a rerun never mixes with another run's files).
+  std::vector<std::string> results;
 };
 
 /// The title of the block of derived numbers settle run appends to case.resolved.toml (and by
@@ -38,6 +46,13 @@ inline constexpr const char* kDerivedBlockTitle = "# [derived] chosen by settle 
 /// mesh copy the run writes (empty without a mesh). settle::InputError naming the first entry that
 /// is in the run's way but not settle's, and saying how to proceed.
 EarlierRun survey_earlier_run(const std::filesystem::path& dir, const std::string& mesh_copy_name);
+
+/// The log settle run keeps in every run directory.
+inline constexpr const char* kRunLogFileName = "run.log";
+
+/// True when `file` is the file this process's stderr writes (settle study sends a case's console
+/// to its run.log).
+bool is_standard_error(const std::filesystem::path& file);
 
 /// The same for `settle run --restart DIR`, which continues the files of DIR: summary.json (removed:
 /// the continued run is not finished) and case.resolved.toml (rewritten from the checkpoint) must

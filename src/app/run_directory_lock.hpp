@@ -23,4 +23,8 @@ class RunDirectoryLock {
   std::optional<FileLock> lock_;
 };
 
+/// The same refusal, read-only (nothing is created): before a survey of `dir` whose files a live
+/// run is writing.
+void refuse_if_live_run(const std::filesystem::path& dir);
+
 }  // namespace settle::app

@@ -6,6 +6,8 @@
 
 #include <fmt/core.h>
 
+#include "analysis/observables.hpp"
+#include "analysis/terminal_state.hpp"
 #include "app/output_values.hpp"
 #include "coupling/body_coupling.hpp"
 #include "lbm/config.hpp"
@@ -55,6 +57,27 @@ std::string operator_text(const coupling::SimulationSetup& s, const coupling::Ca
                      s.smagorinsky_constant, reason);
 }
 
+std::optional<TerminalOutlook> terminal_outlook(const coupling::SimulationSetup& s) {
+  if (s.motion != body::MotionKind::free) return std::nullopt;
+  // The criteria the analysis and run.stop_at_terminal use, with their default window and tolerance.
+  const analysis::TerminalCriteria criteria = analysis::terminal_criteria(analysis::particle_properties(s));
+  if (!(criteria.response_time_si > 0.0)) return std::nullopt;
+  const double earliest_si = s.release_time_si + criteria.earliest_detection_si();
+  TerminalOutlook outlook;
+  outlook.line =
+      fmt::format("terminal state: detectable from t = {:.4g} s on (two windows of {:g} response times of {:.4g} s{})",
+                  earliest_si, criteria.window_response_times, criteria.response_time_si,
+                  s.release_time_si > 0.0 ? fmt::format(" after the release at {:.4g} s", s.release_time_si) : "");
+  if (s.end_time_si < earliest_si)
+    outlook.warning = fmt::format(
+        "run.end_time: {:.4g} s is too short to detect a terminal state, which needs t >= {:.4g} s (two windows of "
+        "{:g} "
+        "response times of {:.4g} s); the run will report the mean of its second half, not a terminal velocity; "
+        "raise run.end_time above {:.4g} s",
+        s.end_time_si, earliest_si, criteria.window_response_times, criteria.response_time_si, earliest_si);
+  return outlook;
+}
+
 std::string run_plan_text(const coupling::SimulationSetup& s, const io::PreflightReport& r) {
   const coupling::CasePlan& p = r.plan;
   const double rate = measured_kernel_updates_per_second(s, p);
@@ -67,6 +90,7 @@ std::string run_plan_text(const coupling::SimulationSetup& s, const io::Prefligh
   text += fmt::format("  grid      {}x{}x{} = {:.3g} cells, {}, {}, {}\n", r.cells[0], r.cells[1], r.cells[2],
                       r.cell_count, lbm::to_string(s.lattice), operator_text(s, p), lbm::to_string(s.precision));
   text += fmt::format("  run       end time {:.4g} s = {:.0f} steps\n", s.end_time_si, r.steps);
+  if (const auto outlook = terminal_outlook(s)) text += fmt::format("            {}\n", outlook->line);
   text += fmt::format("  body      {}, {}\n", coupling::to_string(s.coupling), r.surface_text());
   const std::string budget =
       r.memory_budget_bytes

@@ -18,6 +18,7 @@ namespace {
 // without it must not run on whatever a member held. A programming error, not the user's.
 void check_assigned(const SimulationSetup& s) {
   const std::pair<const char*, bool> numbers[] = {
+      {"particle_density_si", std::isnan(s.particle_density_si)},
       {"fluid_density_si", std::isnan(s.fluid_density_si)},
       {"dynamic_viscosity_si", std::isnan(s.dynamic_viscosity_si)},
       {"gravity_si", s.gravity_si.hasNaN()},

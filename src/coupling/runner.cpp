@@ -144,6 +144,7 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     if (callbacks.after_step) callbacks.after_step(time.time_si(), time.dt_si());
   };
   double last_checkpoint_wall_s = 0.0;  // of this segment
+  std::int64_t last_checkpoint_step = -1;
   const auto wall_checkpoint_due = [&] {
     return callbacks.checkpoint_wall_interval_s > 0.0 &&
            seconds_since(segment_start) - last_checkpoint_wall_s >= callbacks.checkpoint_wall_interval_s;
@@ -158,6 +159,7 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
     callbacks.checkpoint_due(state);
     result.samples = std::move(state.samples);
     last_checkpoint_wall_s = seconds_since(segment_start);
+    last_checkpoint_step = time.step();
   };
 
   sample_if_due();
@@ -194,6 +196,12 @@ RunResult run(Simulation& sim, const RunCallbacks& callbacks, RunStart start, do
       next_progress_s = wall + progress_interval_wall_s;
     }
   }
+  // The end's checkpoint comes before the final sample, as an interruption's, so that a restart
+  // cuts that row off and the continued series is the longer run's. A body step spanning two
+  // lattice steps cut by the end has no state to resume from: no checkpoint then.
+  if (callbacks.checkpoint_due && callbacks.checkpoint_at_end && result.stop_reason != "interrupted" &&
+      sim.between_body_steps() && last_checkpoint_step != time.step())
+    hand_over_checkpoint();
   // The final state is always sampled, so that the last row is the end of the run (an interrupted
   // run's too: its checkpoint was written before, and a restart cuts the row off again).
   if (result.samples.empty() || result.samples.back().t_si < time.time_si()) record_sample();

@@ -96,6 +96,10 @@ struct RunCallbacks {
   /// start of this run segment; 0: never): a long run on a shared machine loses at most that much
   /// work, however slowly its simulated time advances.
   std::function<void(const RunStart&)> checkpoint_due;
+  /// Also once at the end of a run that was not interrupted (end time, terminal state, boundary),
+  /// before its final sample, unless one was just written at that step: a finished run continues
+  /// from its end (settle run --restart DIR --set run.end_time=T) rather than from an older one.
+  bool checkpoint_at_end = false;
   double checkpoint_interval_si = 0.0;
   double checkpoint_wall_interval_s = 0.0;
 };

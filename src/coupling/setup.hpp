@@ -36,7 +36,7 @@ inline constexpr int kUnassignedCount = 0;
 struct SimulationSetup {
   std::string name = "case";
   std::shared_ptr<const body::Shape> shape;
-  double particle_density_si = 1050.0;
+  double particle_density_si = kUnassigned;
   body::MotionKind motion{};
   /// Initial state. For a towed body, velocity_si and angular_velocity_b_si are the prescribed
   /// constant motion.

@@ -252,7 +252,7 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   body::ShapeFactoryOptions shape_options;
   shape_options.base_directory = base_directory;
   s.shape = std::shared_ptr<const body::Shape>(shape_of(v, shape_spec(v), shape_options));
-  s.particle_density_si = v.real("particle.density");
+  s.particle_density_si = particle_density_si(v);
   s.motion = motion_kind(v.string("particle.motion"));
 
   s.fluid_density_si = v.real("fluid.density");
@@ -339,6 +339,14 @@ coupling::SimulationSetup simulation_setup(const CaseValues& v, const std::files
   s.end_time_si = v.real("run.end_time");
   s.output_interval_si = v.real("run.output_interval");
   return s;
+}
+
+double particle_density_si(const CaseValues& v) {
+  if (!v.has("particle.density"))
+    throw InputError(
+        "particle.density: required (kg/m^3; e.g. 2650 for quartz sand, 2500 for glass, 1050 for polystyrene); "
+        "settle has no default for it");
+  return v.real("particle.density");
 }
 
 std::vector<std::string> unsupported_key_warnings(const CaseValues& v) {

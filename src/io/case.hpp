@@ -41,6 +41,10 @@ body::MotionKind motion_kind(const std::string& name);
 coupling::SimulationSetup simulation_setup(const CaseValues& values, const std::filesystem::path& base_directory,
                                            std::string name);
 
+/// particle.density, which every case states (a default would silently make a sand grain of
+/// plastic); settle::InputError saying so when it is absent.
+double particle_density_si(const CaseValues& values);
+
 /// Messages for the user about the case: keys accepted but not acted on by this version, and
 /// explicit fluid values that replace a preset's (io::fluid_preset_warnings).
 std::vector<std::string> unsupported_key_warnings(const CaseValues& values);

@@ -92,7 +92,7 @@ std::vector<KeySpec> declare() {
       // back as given, and the shape factory refuses scale for every shape but a mesh.
       real("particle.scale", std::nullopt, "m per file unit", positive(),
            "mesh: factor from file units to metres (absent: 1)"),
-      real("particle.density", Value(1050.0), "kg/m^3", positive(), "particle density"),
+      real("particle.density", std::nullopt, "kg/m^3", positive(), "particle density (required: no default)"),
       choice("particle.motion", "free", {"free", "towed", "fixed"},
              "free (6 degrees of freedom), towed (constant velocity and attitude) or fixed"),
       vector3("particle.towing_velocity", std::nullopt, "m/s", {}, "velocity of a towed particle"),

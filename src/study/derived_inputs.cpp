@@ -75,7 +75,7 @@ void set_galileo(io::CaseValues& values, double galileo, const std::filesystem::
         "galileo: sets the viscosity of a free body's case; the base case's body is not free "
         "(particle.motion); for a towed body vary reynolds");
   const double rho_f = values.real("fluid.density");
-  const double excess = std::abs(values.real("particle.density") / rho_f - 1.0);
+  const double excess = std::abs(io::particle_density_si(values) / rho_f - 1.0);
   const double g = vector3(values, "fluid.gravity").norm();
   if (excess <= 0.0 || g <= 0.0)
     throw InputError(
@@ -119,7 +119,7 @@ double travel_sign_along_z(const io::CaseValues& values, std::string_view name) 
     throw InputError(fmt::format("{}: the base case's body is fixed without an inflow, so it has no front", name));
   const Eigen::Vector3d travel =
       io::travel_direction(motion, towing_direction(values), inflow, vector3(values, "fluid.gravity"),
-                           values.real("particle.density") < values.real("fluid.density"));
+                           io::particle_density_si(values) < values.real("fluid.density"));
   if (std::abs(travel.z()) < 1.0 - 1e-12)
     throw InputError(
         fmt::format("{}: the body travels along ({:.3g}, {:.3g}, {:.3g}), not along the z axis, the "

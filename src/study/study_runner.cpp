@@ -53,7 +53,8 @@ class StopSignals {
   std::array<struct sigaction, kStopSignals.size()> previous_{};
 };
 
-// settle run's arguments for a case: from the checkpoint an earlier attempt left, else afresh.
+// settle run's arguments for a case: from the checkpoint an earlier attempt left, else afresh,
+// replacing what a failed attempt left (--overwrite: the case directory is the study's).
 std::vector<std::string> run_arguments(const fs::path& case_dir, const RunnerOptions& options) {
   std::error_code error;
   const std::string threads = std::to_string(options.threads);
@@ -64,6 +65,7 @@ std::vector<std::string> run_arguments(const fs::path& case_dir, const RunnerOpt
           (case_dir / "case.toml").string(),
           "-o",
           case_dir.string(),
+          "--overwrite",
           "--threads",
           threads};
 }

@@ -218,6 +218,10 @@ const std::vector<FigureColumn>& figure_columns() {
       {"torque_coefficient", "/torque_coefficient"},
       {"terminal_velocity_m_s", "/terminal_velocity"},
       {"terminal_vertical_velocity_m_s", "/terminal_vertical_velocity"},
+      // Free bodies: the mean over the averaging window, the terminal one only when reached (the
+      // two columns above are empty otherwise).
+      {"late_mean_velocity_m_s", "/late_mean_velocity"},
+      {"late_mean_vertical_velocity_m_s", "/late_mean_vertical_velocity"},
       {"path_angle_deg", "/lateral/path_angle_deg"},
       {"lateral_amplitude_m", "/lateral/amplitude"},
       {"tilt_mean_deg", "/tilt/mean_deg"},

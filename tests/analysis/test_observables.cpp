@@ -464,4 +464,29 @@ TEST(Analysis, JsonHoldsTheContractKeysAndNullsForUndefinedQuantities) {
   EXPECT_EQ(j.begin().key(), "terminal_velocity");
 }
 
+// A body still accelerating at the end (u_z = -c t, never terminal): no terminal velocity in the
+// JSON, the mean of the second half under late_mean_*, and the trend of the closed form. Over
+// [T/2, T] the mean along g is 3cT/4 and the slope c, so the trend is 4 / (3T); the samples lie
+// on the line exactly, so the least-squares slope and the trapezoidal mean are exact up to
+// round-off of sums over 200 samples (1e-12 relative leaves a margin of ~1e3 over n eps).
+TEST(Analysis, AnAcceleratingBodyHasNoTerminalVelocityButItsLateMeanAndTrend) {
+  const ParticleProperties sphere = settle::test::sphere_in_water(1e-3);
+  constexpr double kAcceleration = 0.2, kEnd = 2.0;
+  Motion motion;
+  motion.velocity = [](double t) { return Eigen::Vector3d(0.0, 0.0, -kAcceleration * t); };
+  const Analysis a = analyse(sample_motion(motion, 0.005, kEnd), sphere);
+  ASSERT_FALSE(a.terminal.reached);
+  const nlohmann::ordered_json j = to_json(a);
+  EXPECT_TRUE(j["terminal_velocity"].is_null());
+  EXPECT_TRUE(j["terminal_vertical_velocity"].is_null());
+  EXPECT_TRUE(j["terminal_velocity_vector"].is_null());
+  EXPECT_NEAR(j["late_mean_vertical_velocity"].get<double>(), 0.75 * kAcceleration * kEnd, 1e-12);
+  EXPECT_NEAR(j["late_mean_velocity"].get<double>(), 0.75 * kAcceleration * kEnd, 1e-12);
+  EXPECT_NEAR(j["late_velocity_trend"].get<double>(), 4.0 / (3.0 * kEnd), 1e-12);
+  const std::string statement = velocity_statement(a);
+  EXPECT_EQ(statement.rfind("not terminal: ", 0), 0u) << statement;
+  EXPECT_NE(statement.find("speeding up"), std::string::npos) << statement;
+  EXPECT_EQ(statement.find("terminal velocity"), std::string::npos) << statement;
+}
+
 }  // namespace test_observables

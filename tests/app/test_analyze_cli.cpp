@@ -157,6 +157,26 @@ TEST(AnalyzeCliShortRun, TooShortForTheDetectorIsNotClassified) {
   fs::remove_all(dir);
 }
 
+// A run that failed or was stopped leaves no summary.json (its completion mark): its rows are
+// analysed all the same, and nothing is written (a summary.json would mark it finished). The same
+// rows give the same analysis, to the last bit, as the finished run's summary.json holds.
+TEST_F(AnalyzeCli, AFailedRunsFolderIsAnalysedAsFarAsItsSeriesGoes) {
+  const fs::path dir = copy_of_run("analyze_failed");
+  const json finished = json::parse(read_text(dir / "summary.json"));
+  fs::remove(dir / "summary.json");
+  const auto r = run_settle("analyze", dir.string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("summary.json: missing: the run did not finish"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  const json fields = json::parse(r.out);
+  EXPECT_EQ(fields["late_mean_vertical_velocity"], finished["late_mean_vertical_velocity"]);
+  EXPECT_EQ(fields["terminal_state"]["reached"], finished["terminal_state"]["reached"]);
+  const auto report = run_settle("analyze", dir.string());
+  ASSERT_EQ(report.status, 0) << report.err;
+  EXPECT_NE(report.out.find("  result           "), std::string::npos) << report.out;
+  fs::remove_all(dir);
+}
+
 // Runs `settle analyze` on a broken copy and checks the refusal and that nothing was written.
 void expect_refused(const fs::path& dir, const std::string& arguments, const std::string& named) {
   const std::string summary_before = fs::exists(dir / "summary.json") ? read_text(dir / "summary.json") : "";

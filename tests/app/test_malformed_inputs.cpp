@@ -575,7 +575,7 @@ TEST_F(MalformedInput, AStaleSummaryDoesNotSurviveARunThatFailsAfterItsChecks) {
   // so the stale one must be gone rather than sit beside the new files.
   std::ofstream(results_ / "summary.json") << "{\"case\": \"case\", \"steps\": 1, \"stop_reason\": \"end_time\"}\n";
   fs::create_directory(results_ / "case.resolved.toml.tmp");
-  const CliResult r = run_case("--threads 1");
+  const CliResult r = run_case("--threads 1 --overwrite");
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("case.resolved.toml"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(results_ / "summary.json"));
@@ -638,16 +638,22 @@ TEST_F(MalformedInput, ACaseNamedDotDotIsRefusedWithoutOutputDirectory) {
 }
 
 TEST_F(MalformedInput, AFreshRunRemovesTheEarlierRunsFilesAndKeepsTheUsers) {
-  // The first run writes VTK frames and a checkpoint; the second, shorter and without VTK, must
-  // leave none of them (a stale vtk/fluid.pvd would list frames of the other run), but keep the
-  // user's files, also the one inside vtk/.
+  // The first run writes VTK frames and a checkpoint; the second (--overwrite), shorter and
+  // without VTK, must leave none of them (a stale vtk/fluid.pvd would list frames of the other
+  // run), but keep the user's files, also the one inside vtk/. Its checkpoint is its own end's.
   ASSERT_EQ(run_case("--threads 1 --set run.vtk_interval=5e-4 --set run.checkpoint_interval=5e-4").status, 0);
   ASSERT_TRUE(fs::exists(results_ / "vtk" / "fluid.pvd"));
   ASSERT_TRUE(fs::exists(results_ / "checkpoint.bin"));
   std::ofstream(results_ / "vtk" / "notes.txt") << "my notes on the frames\n";
-  const CliResult r = run_case("--threads 1 --set run.end_time=5e-4");
+  const CliResult r = run_case("--threads 1 --set run.end_time=5e-4 --overwrite");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_FALSE(fs::exists(results_ / "checkpoint.bin"));
+  const std::size_t end_at = r.err.find("checkpoint at the end, t = ");
+  ASSERT_NE(end_at, std::string::npos) << r.err;
+  const std::string end_time = r.err.substr(end_at + 27, r.err.find(' ', end_at + 27) - end_at - 27);
+  const CliResult extended =
+      settle::test::run_settle("run", "--restart " + results_.string() + " --set run.end_time=1e-3 --threads 1");
+  EXPECT_NE(extended.err.find("at t = " + end_time + " s (step"), std::string::npos) << end_time << "\n"
+                                                                                     << extended.err;
   EXPECT_FALSE(fs::exists(results_ / "vtk" / "fluid.pvd"));
   EXPECT_FALSE(fs::exists(results_ / "vtk" / "fluid_000000.vti"));
   EXPECT_TRUE(fs::exists(results_ / "vtk" / "notes.txt"));

@@ -241,8 +241,8 @@ std::uint32_t kill_seed() {
 //  - a checkpoint: --restart continues to the uninterrupted run's timeseries.csv, byte for byte,
 //    and its summary (wall-clock fields aside);
 //  - none (killed before the first): --restart is refused with status 2, naming the missing
-//    directory or DIR/checkpoint.bin, and changes nothing; a fresh run into DIR then replaces what
-//    the killed run wrote and gives the uninterrupted result;
+//    directory or DIR/checkpoint.bin, and changes nothing; a fresh run into DIR (--overwrite) then
+//    replaces what the killed run wrote and gives the uninterrupted result;
 //  - the run ended before the kill (status 0): its result is the uninterrupted one.
 TEST_F(RestartCli, RandomKillsContinueToTheUninterruptedResult) {
   const std::uint32_t seed = kill_seed();
@@ -294,7 +294,7 @@ TEST_F(RestartCli, RandomKillsContinueToTheUninterruptedResult) {
       if (dir_existed) {
         EXPECT_TRUE(snapshot(dir) == before);
       }
-      const Result fresh = run_settle(joined(arguments));
+      const Result fresh = run_settle(joined(arguments) + " --overwrite");
       ASSERT_EQ(fresh.status, 0) << fresh.err;
       EXPECT_EQ(read_text(dir / "timeseries.csv"), read_text(*straight_ / "timeseries.csv"));
       EXPECT_EQ(physics_of_summary(dir), physics_of_summary(*straight_));
@@ -482,7 +482,7 @@ TEST_F(RestartCli, ACheckpointOfAnotherRunOrAnEditedSeriesIsRefused) {
   EXPECT_TRUE(snapshot(dir) == before);
 
   // The run's own checkpoint again, and one digit of the first row changed (same length).
-  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + " --set run.end_time=0.015").status, 0);
+  ASSERT_EQ(run_settle("-o " + dir.string() + joined(kCase) + " --set run.end_time=0.015 --overwrite").status, 0);
   std::string edited = read_text(dir / "timeseries.csv");
   const std::size_t row = edited.find('\n') + 1;                         // the first row, t = 0
   const std::size_t digit = edited.find_first_of("123456789", row + 2);  // in x, after "0,"

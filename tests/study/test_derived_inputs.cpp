@@ -26,6 +26,7 @@ dynamic_viscosity = 1.0e-3
 shape = "spheroid"
 diameter = 1.0e-3
 aspect_ratio = 2.5
+density = 1050.0
 motion = "towed"
 towing_velocity = [0.0, 0.0, -0.01]
 [domain]

@@ -51,6 +51,7 @@ TEST(StudySpec, AnInlineBaseAndAnEnsembleGiveOneCaseAnOrientation) {
 [base.particle]
 shape = "cuboid"
 size = [1.0e-3, 1.0e-3, 1.0e-3]
+density = 1050.0
 [base.domain]
 size = [6.0e-3, 6.0e-3, 12.0e-3]
 [orientations]

@@ -12,10 +12,11 @@
 namespace settle::test {
 
 /// The required keys only, at the values the tests assume when they set nothing else: a 1 mm sphere
-/// (replaced by every test's own shape) in a 10 mm cube.
+/// (replaced by every test's own shape) of 1050 kg/m^3 (polystyrene) in a 10 mm cube.
 inline constexpr std::string_view kMinimalCase = R"toml(
 [particle]
 diameter = 1.0e-3
+density = 1050.0
 
 [domain]
 size = [0.01, 0.01, 0.01]
