@@ -11,7 +11,7 @@
 #               study file and the STL reader for 15 s each, one per core at a time (scripts/fuzz.sh;
 #               docs/fuzzing.md)
 # Both builds make compiler warnings errors (SETTLE_WERROR=ON; off by default for users).
-# On the 2-core development machine, 2026-11-27 to 29, from a clean clone: about 4-9, 7-13 and 1 minutes (680-1160 s in all, idle)
+# On the 2-core development machine, idle, from a clean clone: about 7.5, 13 and 0.5 minutes (1256 s in all)
 # (docs/notes.md, "The test command's time").
 # SETTLE_TEST_STAGES picks stages, e.g. SETTLE_TEST_STAGES=release for the quick local loop.
 # Validation runs are separate (docs/validation.md).
